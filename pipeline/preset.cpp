@@ -1,0 +1,22 @@
+#include "pipeline/preset.h"
+
+#include "runtime/error.h"
+
+namespace smokesvd {
+
+const std::vector<Preset>& presets() {
+  static const std::vector<Preset> all = {
+      {"tiny", 16, 28, 16, 16, 28, 16, 8},
+      {"small", 32, 56, 32, 32, 56, 16, 60},
+      {"paper", 64, 112, 64, 64, 112, 16, 150},
+  };
+  return all;
+}
+
+const Preset& preset(const std::string& name) {
+  for (const Preset& p : presets())
+    if (p.name == name) return p;
+  throw Error("unknown preset '" + name + "'; expected one of: tiny, small, paper");
+}
+
+}  // namespace smokesvd

@@ -1,0 +1,23 @@
+// Presets: named sets of sizes every command starts from (`--preset tiny|small|paper`), each field
+// overridable. `tiny` runs in seconds on lavapipe (tests), `small` trains on a 2-core CPU in about an
+// hour, `paper` is the paper's setting (64x112x64 volumes, 16 views; GPU).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace smokesvd {
+
+struct Preset {
+  std::string name;
+  int gridX = 0, gridY = 0, gridZ = 0;  // volume resolution in cells (x, y = up, z)
+  int imageWidth = 0, imageHeight = 0;  // rendered view size
+  int views = 16;                       // orbit views on [0, 180) degrees
+  int frames = 0;                       // frames per simulated scene
+};
+
+// Throws Error listing the known presets if `name` is not one.
+const Preset& preset(const std::string& name);
+const std::vector<Preset>& presets();
+
+}  // namespace smokesvd

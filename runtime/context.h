@@ -1,0 +1,84 @@
+// The Vulkan context: instance, the chosen device, its compute queue, the buffer pool and the kernel cache.
+// Create one per process; every Tensor, Kernel and Stream refers to it and must die before it.
+#pragma once
+
+#include <memory>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "runtime/device_info.h"
+
+namespace smokesvd {
+
+class BufferPool;
+class KernelCache;
+class Kernel;
+struct KernelKey;
+
+struct ContextOptions {
+  // Empty: the best device (discrete > integrated > CPU); else an index or a name substring.
+  // When empty, the environment variable SMOKESVD_DEVICE is used if set.
+  std::string device;
+  // Enable VK_LAYER_KHRONOS_validation. Also on when SMOKESVD_VALIDATION=1.
+  bool validation = false;
+};
+
+class Context {
+ public:
+  explicit Context(ContextOptions options = {});
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  // Every device the loader reports, without creating a Context (for `smokesvd info`).
+  static std::vector<DeviceInfo> listDevices(ContextOptions options = {});
+
+  const DeviceInfo& info() const { return info_; }
+  VkDevice device() const { return device_; }
+  VkPhysicalDevice physicalDevice() const { return physicalDevice_; }
+  VkQueue queue() const { return queue_; }
+  uint32_t queueFamily() const { return queueFamily_; }
+  VkCommandPool commandPool() const { return commandPool_; }
+  BufferPool& buffers() { return *bufferPool_; }
+  const Kernel& kernel(const KernelKey& key);
+  bool validationEnabled() const { return validation_; }
+  PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet() const { return cmdPushDescriptorSet_; }
+
+  // Messages the validation layer reported since the last call; emptied by the call.
+  std::vector<std::string> takeValidationMessages();
+  void reportValidationMessage(std::string message);
+
+  // Runs a one-off command buffer recorded by `record` and waits for it (uploads, downloads).
+  template <typename Record>
+  void runOnce(std::string_view what, Record&& record) {
+    VkCommandBuffer commands = beginOneTime();
+    record(commands);
+    endOneTime(commands, what);
+  }
+
+ private:
+  void release();
+  VkCommandBuffer beginOneTime();
+  void endOneTime(VkCommandBuffer commands, std::string_view what);
+
+  bool validation_ = false;
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice_ = VK_NULL_HANDLE;
+  DeviceInfo info_;
+  VkDevice device_ = VK_NULL_HANDLE;
+  uint32_t queueFamily_ = 0;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  VkCommandPool commandPool_ = VK_NULL_HANDLE;
+  PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet_ = nullptr;
+  std::unique_ptr<BufferPool> bufferPool_;
+  std::unique_ptr<KernelCache> kernels_;
+  std::mutex messagesMutex_;
+  std::vector<std::string> validationMessages_;
+};
+
+}  // namespace smokesvd

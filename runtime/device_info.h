@@ -1,0 +1,46 @@
+// What smokesvd needs to know about a Vulkan physical device, read once at start-up.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace smokesvd {
+
+struct DeviceInfo {
+  uint32_t index = 0;                 // position in vkEnumeratePhysicalDevices
+  std::string name;
+  VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+  uint32_t apiVersion = 0;
+  std::string driver;                 // driver name and info, e.g. "llvmpipe Mesa 22.3.6"
+  uint64_t maxStorageBufferRange = 0; // bytes one storage-buffer binding may span
+  uint32_t maxTexelBufferElements = 0;
+  uint32_t maxSharedMemoryBytes = 0;
+  uint32_t maxWorkgroupInvocations = 0;
+  std::array<uint32_t, 3> maxWorkgroupCount{};
+  uint32_t maxPushConstantBytes = 0;
+  uint32_t subgroupSize = 0;
+  uint64_t deviceLocalBytes = 0;      // size of the largest device-local heap
+  bool unifiedMemory = false;         // CPU or integrated: buffers live in host-visible memory
+  bool float16 = false;               // shaderFloat16
+  bool float32AtomicAdd = false;      // VK_EXT_shader_atomic_float on storage buffers
+  bool pushDescriptor = false;        // VK_KHR_push_descriptor (required)
+  bool timestamps = false;            // compute queue can write timestamps
+  float timestampPeriodNs = 0;        // nanoseconds per timestamp tick
+
+  std::string typeName() const;
+  // Lower is preferred: discrete GPU, integrated GPU, virtual GPU, CPU, other.
+  int preferenceRank() const;
+};
+
+// Reads every physical device the instance sees.
+std::vector<DeviceInfo> queryDevices(VkInstance instance);
+
+// Chooses a device: `request` is empty (best by preferenceRank), a decimal index, or a case-insensitive
+// substring of the device name. Throws Error naming the request and listing the devices otherwise.
+const DeviceInfo& chooseDevice(const std::vector<DeviceInfo>& devices, const std::string& request);
+
+}  // namespace smokesvd

@@ -1,0 +1,130 @@
+// A command stream: many dispatches recorded into one command buffer, submitted together.
+//
+// The stream knows from each kernel's reflected bindings which buffers a dispatch reads and writes,
+// and inserts a memory barrier exactly where a dispatch would otherwise read a buffer written before it
+// (RAW) or write one read or written before it (WAR, WAW). Callers never write barriers.
+//
+// Typical use:
+//   Stream stream(context);
+//   stream.dispatchFlat(kernel, {x, y}, Push{n}, n);
+//   stream.submit();   // waits; submit() again re-runs the same recording, reset() starts a new one
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <initializer_list>
+#include <memory>
+#include <span>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "runtime/buffer.h"
+#include "runtime/kernel.h"
+#include "runtime/tensor.h"
+
+namespace smokesvd {
+
+class Context;
+
+// One argument of a dispatch, bound to the next binding number. Texel-buffer bindings read through a
+// float view unless the argument asks for vec4 texels (asVec4).
+struct Arg {
+  Arg(const Tensor& tensor) : buffer(tensor.sharedBuffer()), bytes(tensor.bytes()) {}  // NOLINT: implicit on purpose
+  Arg(std::shared_ptr<Buffer> buffer_, uint64_t bytes_, TexelFormat format_ = TexelFormat::Float)
+      : buffer(std::move(buffer_)), bytes(bytes_), format(format_) {}
+  std::shared_ptr<Buffer> buffer;
+  uint64_t bytes = 0;
+  TexelFormat format = TexelFormat::Float;
+};
+
+inline Arg asVec4(const Tensor& tensor) { return Arg(tensor.sharedBuffer(), tensor.bytes(), TexelFormat::Float4); }
+
+struct StreamOptions {
+  bool profileDispatches = false;  // time every dispatch as a region named after its shader
+  uint32_t maxRegions = 4096;      // timestamp regions one recording can hold
+};
+
+struct RegionTime {
+  std::string name;
+  double nanoseconds = 0;
+};
+
+class Stream {
+ public:
+  explicit Stream(Context& context, StreamOptions options = {});
+  ~Stream();
+  Stream(const Stream&) = delete;
+  Stream& operator=(const Stream&) = delete;
+
+  Context& context() const { return context_; }
+  // The cached kernel for a shader, workgroup size and specialization constants (ids 3, 4, ...).
+  const Kernel& kernel(const std::string& shader, std::array<uint32_t, 3> workgroup = {64, 1, 1},
+                       std::vector<int32_t> constants = {}) const;
+
+  // Records `groups` workgroups of `kernel` with `args` bound to bindings 0..n-1 and `push` as push constants.
+  void dispatch(const Kernel& kernel, std::span<const Arg> args, const void* push, uint32_t pushBytes,
+                std::array<uint32_t, 3> groups);
+  template <typename Push>
+  void dispatch(const Kernel& kernel, std::initializer_list<Arg> args, const Push& push,
+                std::array<uint32_t, 3> groups) {
+    dispatch(kernel, std::span<const Arg>(args.begin(), args.size()), &push, sizeof(Push), groups);
+  }
+  // One invocation per item, `invocations` in all, laid out on a 2D grid of workgroups; shaders recover
+  // the item index with flat_index() from shaders/common/index.glsl and return when it is >= the count.
+  void dispatchFlat(const Kernel& kernel, std::span<const Arg> args, const void* push, uint32_t pushBytes,
+                    uint64_t invocations);
+  template <typename Push>
+  void dispatchFlat(const Kernel& kernel, std::initializer_list<Arg> args, const Push& push, uint64_t invocations) {
+    dispatchFlat(kernel, std::span<const Arg>(args.begin(), args.size()), &push, sizeof(Push), invocations);
+  }
+
+  void copy(const Tensor& source, const Tensor& destination);  // same number of elements
+  void fillZero(const Tensor& tensor);
+
+  // Named GPU-timed regions; they may nest. Times are available after submit().
+  void beginRegion(std::string name);
+  void endRegion();
+
+  // Ends recording (first time), submits, waits. May be called again to run the same recording.
+  void submit();
+  // Drops the recording (and the buffers it kept alive) so a new one can start.
+  void reset();
+
+  std::vector<RegionTime> regionTimes() const { return times_; }
+  uint32_t dispatchCount() const { return dispatches_; }
+  uint32_t barrierCount() const { return barriers_; }
+
+ private:
+  void release();
+  void begin();
+  // Emits a barrier if this access would race with one recorded since the last barrier.
+  void access(const Buffer& buffer, bool reads, bool writes);
+  void barrier();
+
+  Context& context_;
+  StreamOptions options_;
+  VkCommandBuffer commands_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+  bool recording_ = false;
+  bool ended_ = false;
+  uint32_t dispatches_ = 0;
+  uint32_t barriers_ = 0;
+  std::unordered_set<VkBuffer> readSinceBarrier_;
+  std::unordered_set<VkBuffer> writtenSinceBarrier_;
+  std::vector<std::shared_ptr<Buffer>> keepAlive_;
+  struct Region {
+    std::string name;
+    uint32_t beginQuery = 0;
+    uint32_t endQuery = 0;
+  };
+  std::vector<Region> regions_;
+  std::vector<std::size_t> openRegions_;
+  uint32_t queriesUsed_ = 0;
+  std::vector<RegionTime> times_;
+};
+
+}  // namespace smokesvd

@@ -1,0 +1,70 @@
+#include "runtime/tensor.h"
+
+#include "runtime/context.h"
+#include "runtime/error.h"
+
+namespace smokesvd {
+
+std::string toString(const Shape& shape) {
+  std::string text = "[";
+  for (std::size_t i = 0; i < shape.size(); ++i) text += (i ? ", " : "") + std::to_string(shape[i]);
+  return text + "]";
+}
+
+int64_t numElements(const Shape& shape) {
+  int64_t count = 1;
+  for (int64_t extent : shape) count *= extent;
+  return count;
+}
+
+Tensor::Tensor(Context& context, Shape shape) : context_(&context), shape_(std::move(shape)) {
+  for (int64_t extent : shape_)
+    if (extent < 0) throw Error("tensor " + toString(shape_) + ": dimensions must not be negative");
+  buffer_ = context.buffers().acquire(bytes(), "tensor " + toString(shape_));
+}
+
+Tensor Tensor::fromHost(Context& context, Shape shape, std::span<const float> values) {
+  Tensor tensor(context, std::move(shape));
+  tensor.upload(values);
+  return tensor;
+}
+
+int64_t Tensor::size(int axis) const {
+  const int resolved = axis < 0 ? axis + rank() : axis;
+  if (resolved < 0 || resolved >= rank())
+    throw Error("axis " + std::to_string(axis) + " is out of range for tensor " + toString(shape_));
+  return shape_[resolved];
+}
+
+Shape Tensor::strides() const {
+  Shape strides(shape_.size());
+  int64_t stride = 1;
+  for (int axis = rank() - 1; axis >= 0; --axis) {
+    strides[axis] = stride;
+    stride *= shape_[axis];
+  }
+  return strides;
+}
+
+Tensor Tensor::reshaped(Shape shape) const {
+  if (numElements(shape) != numel())
+    throw Error("cannot reshape tensor " + toString(shape_) + " to " + toString(shape) + ": element counts differ");
+  Tensor view = *this;
+  view.shape_ = std::move(shape);
+  return view;
+}
+
+void Tensor::upload(std::span<const float> values) const {
+  if (static_cast<int64_t>(values.size()) != numel())
+    throw Error("upload to tensor " + toString(shape_) + ": got " + std::to_string(values.size()) +
+                " values, expected " + std::to_string(numel()));
+  buffer_->write(values.data(), bytes());
+}
+
+std::vector<float> Tensor::download() const {
+  std::vector<float> values(static_cast<std::size_t>(numel()));
+  buffer_->read(values.data(), bytes());
+  return values;
+}
+
+}  // namespace smokesvd

@@ -1,0 +1,16 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// y[i] = x[i] for i < n, reading through a storage buffer: the slow read path on lavapipe, kept to
+// measure it against the texel path (tensor/copy).
+#include "index.glsl"
+layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
+
+layout(std430, binding = 0) readonly buffer Input { vec4 x[]; };
+layout(std430, binding = 1) writeonly buffer Output { vec4 y[]; };
+layout(push_constant) uniform Push { uint n; };
+
+void main() {
+  const uint item = flat_index();
+  if (4u * item >= n) return;
+  y[item] = x[item];
+}

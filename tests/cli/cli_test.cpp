@@ -1,0 +1,76 @@
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "tests/harness/command.h"
+
+namespace smokesvd::testing {
+namespace {
+
+int countLines(const std::string& text) {
+  int lines = 0;
+  for (char c : text) lines += c == '\n';
+  return lines;
+}
+
+TEST(Cli, InfoListsTheChosenDevice) {
+  const CommandResult result = runSmokesvd("info");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_NE(result.out.find("* 0: "), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("storage buffer range"), std::string::npos);
+}
+
+TEST(Cli, InfoJsonIsValid) {
+  const CommandResult result = runSmokesvd("info --json");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const auto json = nlohmann::json::parse(result.out);
+  ASSERT_FALSE(json.at("devices").empty());
+  EXPECT_TRUE(json["devices"][0].contains("max_storage_buffer_range"));
+}
+
+TEST(Cli, BadDeviceIsAOneLineError) {
+  const CommandResult result = runSmokesvd("--device no-such-gpu info");
+  EXPECT_NE(result.exitCode, 0);
+  EXPECT_EQ(countLines(result.err), 1) << result.err;
+  EXPECT_NE(result.err.find("'no-such-gpu'"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("available:"), std::string::npos) << result.err;
+}
+
+TEST(Cli, BadDeviceFromEnvironmentIsAOneLineError) {
+  const CommandResult result = runSmokesvd("info", "SMOKESVD_DEVICE=42");
+  EXPECT_NE(result.exitCode, 0);
+  EXPECT_EQ(countLines(result.err), 1) << result.err;
+  EXPECT_NE(result.err.find("'42'"), std::string::npos) << result.err;
+}
+
+TEST(Cli, MissingVulkanDriverIsAOneLineError) {
+  const CommandResult result =
+      runSmokesvd("info", "VK_DRIVER_FILES=/nonexistent/icd.json VK_ICD_FILENAMES=/nonexistent/icd.json");
+  EXPECT_NE(result.exitCode, 0);
+  EXPECT_EQ(countLines(result.err), 1) << result.err;
+  EXPECT_NE(result.err.find("smokesvd: error:"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("driver"), std::string::npos) << result.err;
+}
+
+TEST(Cli, BenchJsonReportsDeviceAndKernels) {
+  const CommandResult result = runSmokesvd("bench dispatch --json --runs 2 --warmup 1");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const auto json = nlohmann::json::parse(result.out);
+  EXPECT_FALSE(json.at("device").get<std::string>().empty());
+  ASSERT_FALSE(json.at("results").empty());
+  EXPECT_GT(json["results"][0].at("median_ns").get<double>(), 0);
+}
+
+TEST(Cli, BenchWithUnknownFilterFails) {
+  const CommandResult result = runSmokesvd("bench no-such-kernel");
+  EXPECT_NE(result.exitCode, 0);
+  EXPECT_EQ(countLines(result.err), 1) << result.err;
+}
+
+TEST(Cli, UnknownSubcommandFails) {
+  const CommandResult result = runSmokesvd("frobnicate");
+  EXPECT_NE(result.exitCode, 0);
+}
+
+}  // namespace
+}  // namespace smokesvd::testing

@@ -1,0 +1,40 @@
+#include "tests/harness/command.h"
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace smokesvd::testing {
+namespace {
+
+std::string slurp(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+CommandResult runSmokesvd(const std::string& arguments, const std::string& environment) {
+  const auto directory = std::filesystem::temp_directory_path() / ("smokesvd-cli-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(directory);
+  const auto out = directory / "stdout";
+  const auto err = directory / "stderr";
+  const std::string command = environment + " " + SMOKESVD_SMOKESVD_BINARY + " " + arguments + " >" + out.string() +
+                              " 2>" + err.string() + " </dev/null";
+  const int status = std::system(command.c_str());
+  if (status == -1) throw std::runtime_error("could not run: " + command);
+  CommandResult result;
+  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  result.out = slurp(out);
+  result.err = slurp(err);
+  std::filesystem::remove_all(directory);
+  return result;
+}
+
+}  // namespace smokesvd::testing

@@ -1,0 +1,18 @@
+// Runs the `smokesvd` binary as a user would, capturing exit status, stdout and stderr.
+#pragma once
+
+#include <string>
+
+namespace smokesvd::testing {
+
+struct CommandResult {
+  int exitCode = -1;
+  std::string out;
+  std::string err;
+};
+
+// `arguments` are appended to the smokesvd binary's path; `environment` (e.g. "VK_DRIVER_FILES=/x")
+// is prefixed to the shell command.
+CommandResult runSmokesvd(const std::string& arguments, const std::string& environment = "");
+
+}  // namespace smokesvd::testing

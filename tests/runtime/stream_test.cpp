@@ -1,0 +1,145 @@
+#include <gtest/gtest.h>
+
+#include "nets/ops/elementwise.h"
+#include "runtime/error.h"
+#include "runtime/kernel.h"
+#include "tests/harness/compare.h"
+#include "tests/harness/gpu_test.h"
+#include "tests/harness/random.h"
+
+namespace smokesvd::testing {
+namespace {
+
+class StreamTest : public GpuTest {};
+
+// x_{k+1} = x_k + c for 100 steps, ping-ponging between two buffers: each dispatch reads what the one
+// before it wrote and overwrites what the one before that read, so every barrier must be there.
+TEST_F(StreamTest, HundredDependentDispatchesNeedEveryBarrier) {
+  const int64_t n = 100003;
+  std::vector<float> start;
+  Tensor ping = randomTensor(context(), {n}, 9, -1, 1, &start);
+  Tensor pong = poisonedTensor(context(), {n});
+  Tensor step = Tensor::fromHost(context(), {n}, std::vector<float>(n, 0.5f));
+  Stream stream(context());
+  for (int k = 0; k < 100; ++k) {
+    const Tensor& from = k % 2 == 0 ? ping : pong;
+    const Tensor& to = k % 2 == 0 ? pong : ping;
+    ops::axpby(stream, 1.0f, from, 1.0f, step, to);
+  }
+  EXPECT_EQ(stream.dispatchCount(), 100u);
+  EXPECT_EQ(stream.barrierCount(), 99u);
+  stream.submit();
+  std::vector<double> expected(start.begin(), start.end());
+  for (double& value : expected) value += 50.0;
+  EXPECT_TRUE(allClose(ping, expected, {1e-4, 1e-6}));
+}
+
+TEST_F(StreamTest, IndependentDispatchesGetNoBarrier) {
+  Tensor x = randomTensor(context(), {1000}, 1);
+  std::vector<Tensor> outputs;
+  Stream stream(context());
+  for (int k = 0; k < 10; ++k) {
+    outputs.emplace_back(context(), Shape{1000});
+    ops::scale(stream, x, static_cast<float>(k), outputs.back());
+  }
+  EXPECT_EQ(stream.barrierCount(), 0u);
+  stream.submit();
+}
+
+TEST_F(StreamTest, ResubmitRunsTheSameRecordingAgain) {
+  Tensor x = Tensor::fromHost(context(), {5}, std::vector<float>(5, 1.0f));
+  Stream stream(context());
+  ops::scale(stream, x, 2.0f, x);
+  stream.submit();
+  stream.submit();
+  stream.submit();
+  EXPECT_TRUE(allClose(x, std::vector<double>(5, 8.0), {0, 0}));
+  EXPECT_THROW(ops::fill(stream, x, 0.0f), Error);  // recording is closed until reset()
+  stream.reset();
+  ops::fill(stream, x, 0.0f);
+  stream.submit();
+  EXPECT_TRUE(allClose(x, std::vector<double>(5, 0.0), {0, 0}));
+}
+
+TEST_F(StreamTest, CopyAndFillZeroAreOrdered) {
+  std::vector<float> values;
+  Tensor a = randomTensor(context(), {333}, 5, -1, 1, &values);
+  Tensor b = poisonedTensor(context(), {333});
+  Tensor c = poisonedTensor(context(), {333});
+  Stream stream(context());
+  stream.copy(a, b);
+  ops::scale(stream, b, 2.0f, c);  // reads b after the transfer wrote it
+  stream.fillZero(b);              // overwrites b after the dispatch read it
+  stream.submit();
+  std::vector<double> doubled(values.begin(), values.end());
+  for (double& v : doubled) v *= 2;
+  EXPECT_TRUE(allClose(c, doubled));
+  EXPECT_TRUE(allClose(b, std::vector<double>(333, 0.0), {0, 0}));
+}
+
+TEST_F(StreamTest, TimesRegionsOnTheGpu) {
+  if (!context().info().timestamps) GTEST_SKIP() << "device has no timestamps";
+  Tensor x = randomTensor(context(), {1 << 20}, 1);
+  Tensor y(context(), {1 << 20});
+  Stream stream(context(), {.profileDispatches = true});
+  stream.beginRegion("both");
+  ops::scale(stream, x, 2.0f, y);
+  ops::scale(stream, y, 2.0f, x);
+  stream.endRegion();
+  stream.submit();
+  const std::vector<RegionTime> times = stream.regionTimes();
+  ASSERT_EQ(times.size(), 3u);
+  EXPECT_EQ(times[0].name, "both");
+  EXPECT_EQ(times[1].name, "tensor/axpby");
+  EXPECT_GT(times[1].nanoseconds, 0);
+  EXPECT_GE(times[0].nanoseconds, times[1].nanoseconds);
+}
+
+TEST_F(StreamTest, WrongArgumentCountIsAnError) {
+  Tensor x(context(), {4});
+  Stream stream(context());
+  struct { uint32_t n; } push{4};
+  EXPECT_THROW(stream.dispatchFlat(stream.kernel("tensor/copy", {64, 1, 1}), {x}, push, 1), Error);
+}
+
+TEST_F(StreamTest, KernelBindingsAreReflectedFromSpirv) {
+  const Kernel& kernel = context().kernel({"tensor/axpby", {64, 1, 1}, {}});
+  ASSERT_EQ(kernel.bindings().size(), 3u);
+  EXPECT_EQ(kernel.bindings()[0].kind, BindingKind::UniformTexelBuffer);
+  EXPECT_EQ(kernel.bindings()[1].kind, BindingKind::UniformTexelBuffer);
+  EXPECT_EQ(kernel.bindings()[2].kind, BindingKind::StorageBuffer);
+  EXPECT_FALSE(kernel.bindings()[2].reads);
+  EXPECT_TRUE(kernel.bindings()[2].writes);
+  const Kernel& storageCopy = context().kernel({"tensor/copy_storage", {64, 1, 1}, {}});
+  EXPECT_TRUE(storageCopy.bindings()[0].reads);
+  EXPECT_FALSE(storageCopy.bindings()[0].writes);
+  EXPECT_TRUE(kernel.hasPushConstants());
+}
+
+TEST_F(StreamTest, UnknownShaderIsAnError) {
+  EXPECT_THROW(context().kernel({"tensor/no_such_shader", {64, 1, 1}, {}}), Error);
+}
+
+}  // namespace
+}  // namespace smokesvd::testing
+
+namespace smokesvd::testing {
+namespace {
+
+// Guards the guard: misuse reported by the validation layer reaches the test fixture.
+TEST_F(StreamTest, ValidationLayerMessagesAreCaught) {
+  ASSERT_TRUE(context().validationEnabled());
+  Buffer buffer(context(), 1024);
+  VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+  info.buffer = buffer.handle();
+  info.format = VK_FORMAT_R32_SFLOAT;
+  info.offset = 4;  // below minTexelBufferOffsetAlignment (16 on lavapipe): invalid usage
+  info.range = 64;
+  VkBufferView view = VK_NULL_HANDLE;
+  vkCreateBufferView(context().device(), &info, nullptr, &view);
+  if (view) vkDestroyBufferView(context().device(), view, nullptr);
+  EXPECT_FALSE(context().takeValidationMessages().empty());
+}
+
+}  // namespace
+}  // namespace smokesvd::testing

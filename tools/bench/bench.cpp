@@ -1,0 +1,60 @@
+#include "tools/bench/bench.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "runtime/error.h"
+
+namespace smokesvd::bench {
+namespace {
+
+std::vector<Benchmark>& registry() {
+  static std::vector<Benchmark> all;
+  return all;
+}
+
+}  // namespace
+
+bool registerBenchmark(Benchmark benchmark) {
+  registry().push_back(std::move(benchmark));
+  return true;
+}
+
+const std::vector<Benchmark>& benchmarks() {
+  std::sort(registry().begin(), registry().end(),
+            [](const Benchmark& a, const Benchmark& b) { return a.name < b.name; });
+  return registry();
+}
+
+double BenchContext::timeMedian(const std::function<void(Stream&)>& work) {
+  Stream stream(context_);
+  stream.beginRegion("work");
+  work(stream);
+  stream.endRegion();
+  const bool gpuTimes = context_.info().timestamps;
+  std::vector<double> samples;
+  for (int run = 0; run < options_.warmup + options_.runs; ++run) {
+    const auto start = std::chrono::steady_clock::now();
+    stream.submit();
+    const auto stop = std::chrono::steady_clock::now();
+    if (run < options_.warmup) continue;
+    samples.push_back(gpuTimes ? stream.regionTimes().at(0).nanoseconds
+                               : std::chrono::duration<double, std::nano>(stop - start).count());
+  }
+  std::nth_element(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() / 2), samples.end());
+  return samples[samples.size() / 2];
+}
+
+void BenchContext::measure(std::string name, std::string shape, double bytes, double flops,
+                           const std::function<void(Stream&)>& work) {
+  Measurement measurement;
+  measurement.name = std::move(name);
+  measurement.shape = std::move(shape);
+  measurement.bytes = bytes;
+  measurement.flops = flops;
+  measurement.runs = options_.runs;
+  measurement.medianNs = timeMedian(work);
+  results_.push_back(std::move(measurement));
+}
+
+}  // namespace smokesvd::bench

@@ -1,0 +1,59 @@
+// The benchmark registry behind `smokesvd bench`. A benchmark records its work into a Stream once;
+// the driver re-submits that recording (warm-up, then many timed runs) and reports the median GPU time.
+//
+// Adding one: in any tools/bench/*.cpp,
+//   static const bool registered = registerBenchmark({"group/name", [](BenchContext& b) { ... b.report(...); }});
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "runtime/context.h"
+#include "runtime/stream.h"
+
+namespace smokesvd::bench {
+
+struct Measurement {
+  std::string name;        // e.g. "copy/texel"
+  std::string shape;       // what was run, e.g. "[16777216]" or "3x3 64->64 @ 64x64"
+  double medianNs = 0;     // median GPU time of one run
+  double bytes = 0;        // bytes read + written by one run (0 if not memory-bound)
+  double flops = 0;        // floating-point operations of one run (0 if not compute-bound)
+  int runs = 0;
+  double gbPerSecond() const { return bytes > 0 ? bytes / medianNs : 0; }
+  double gflopPerSecond() const { return flops > 0 ? flops / medianNs : 0; }
+};
+
+struct BenchOptions {
+  int warmup = 3;
+  int runs = 15;
+};
+
+class BenchContext {
+ public:
+  BenchContext(Context& context, BenchOptions options) : context_(context), options_(options) {}
+  Context& context() { return context_; }
+  // Records `work` once, runs it options.warmup + options.runs times, returns the median GPU time (ns).
+  double timeMedian(const std::function<void(Stream&)>& work);
+  // Times `work` and adds a measurement.
+  void measure(std::string name, std::string shape, double bytes, double flops,
+               const std::function<void(Stream&)>& work);
+  void add(Measurement measurement) { results_.push_back(std::move(measurement)); }
+  const std::vector<Measurement>& results() const { return results_; }
+
+ private:
+  Context& context_;
+  BenchOptions options_;
+  std::vector<Measurement> results_;
+};
+
+struct Benchmark {
+  std::string name;  // "group/name"; the FILTER of `smokesvd bench` matches a substring of it
+  std::function<void(BenchContext&)> run;
+};
+
+bool registerBenchmark(Benchmark benchmark);
+const std::vector<Benchmark>& benchmarks();
+
+}  // namespace smokesvd::bench

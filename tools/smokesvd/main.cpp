@@ -1,0 +1,30 @@
+// smokesvd: single-view smoke reconstruction on Vulkan compute. Parses the command line, runs the chosen
+// subcommand, and turns any failure into one line on stderr and a non-zero exit status.
+#include <iostream>
+
+#include "runtime/error.h"
+#include "tools/smokesvd/command.h"
+
+int main(int argc, char** argv) {
+  using namespace smokesvd;
+  CLI::App app{"smokesvd: single-view smoke reconstruction (density, velocity, re-simulation) on Vulkan compute"};
+  app.require_subcommand(1);
+  cli::GlobalOptions global;
+  app.add_option("--device", global.device, "Vulkan device: index or name substring (default: best; env SMOKESVD_DEVICE)");
+  app.add_flag("--validation", global.validation, "enable the Khronos validation layer (env SMOKESVD_VALIDATION=1)");
+  cli::Action action;
+  cli::addInfoCommand(app, global, action);
+  cli::addBenchCommand(app, global, action);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  }
+  try {
+    action();
+    return 0;
+  } catch (const std::exception& error) {
+    std::cerr << "smokesvd: error: " << error.what() << "\n";
+    return 1;
+  }
+}
