@@ -29,8 +29,6 @@ void printTable(const std::vector<bench::Measurement>& results) {
   }
 }
 
-}  // namespace
-
 void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action) {
   static BenchArguments args;
   CLI::App* command = app.add_subcommand("bench", "time kernels on the device (GPU timestamps, median of runs)");
@@ -74,4 +72,7 @@ void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action)
   });
 }
 
+const bool registered = registerCommand({"bench", addBenchCommand});
+
+}  // namespace
 }  // namespace smokesvd::cli

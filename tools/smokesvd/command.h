@@ -1,4 +1,10 @@
-// Each `smokesvd` subcommand lives in its own file and adds itself to the CLI11 app here.
+// `smokesvd` subcommands. Each lives in its own file and registers itself:
+//
+//   const bool registered = cli::registerCommand({"info", [](CLI::App& app, const GlobalOptions& global,
+//                                                            Action& action) { ... }});
+//
+// The function adds a CLI11 subcommand to `app` whose callback sets `action`; main() runs the action after
+// parsing and turns any exception into a one-line error and exit status 1.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -16,10 +22,14 @@ struct GlobalOptions {
   ContextOptions contextOptions() const { return {device, validation}; }
 };
 
-// A subcommand's action runs after parsing; errors thrown from it become the one-line message.
 using Action = std::function<void()>;
 
-void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& action);
-void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action);
+struct Command {
+  std::string name;
+  std::function<void(CLI::App& app, const GlobalOptions& global, Action& action)> add;
+};
+
+bool registerCommand(Command command);
+const std::vector<Command>& commands();  // sorted by name
 
 }  // namespace smokesvd::cli

@@ -36,8 +36,6 @@ void printDevice(const DeviceInfo& d, bool chosen) {
             << ", push descriptors " << yes(d.pushDescriptor) << ", timestamps " << yes(d.timestamps) << "\n";
 }
 
-}  // namespace
-
 void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& action) {
   CLI::App* command = app.add_subcommand("info", "list Vulkan devices and their limits; * marks the one smokesvd uses");
   static bool json = false;
@@ -58,4 +56,7 @@ void addInfoCommand(CLI::App& app, const GlobalOptions& global, Action& action) 
   });
 }
 
+const bool registered = registerCommand({"info", addInfoCommand});
+
+}  // namespace
 }  // namespace smokesvd::cli

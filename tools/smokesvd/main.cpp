@@ -13,8 +13,7 @@ int main(int argc, char** argv) {
   app.add_option("--device", global.device, "Vulkan device: index or name substring (default: best; env SMOKESVD_DEVICE)");
   app.add_flag("--validation", global.validation, "enable the Khronos validation layer (env SMOKESVD_VALIDATION=1)");
   cli::Action action;
-  cli::addInfoCommand(app, global, action);
-  cli::addBenchCommand(app, global, action);
+  for (const cli::Command& command : cli::commands()) command.add(app, global, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
