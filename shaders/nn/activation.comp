@@ -18,40 +18,49 @@ layout(binding = 1) uniform samplerBuffer gy4;
 layout(std430, binding = 2) writeonly buffer Output { vec4 result[]; };
 layout(push_constant) uniform Push { uint n; float slope; };
 
-vec4 sigmoid(vec4 x) { return 1.0 / (1.0 + exp(-x)); }
+// Sigmoid s and its complement 1 - s = s(-x), both from e = exp(-|x|) so neither overflows nor loses
+// relative precision in the tails: s = 1 / (1 + e) for x >= 0, e / (1 + e) below.
+vec4 sigmoid(vec4 x, out vec4 complement) {
+  const vec4 e = exp(-abs(x));
+  const vec4 near = 1.0 / (1.0 + e);
+  const vec4 far = e * near;
+  const bvec4 positive = greaterThanEqual(x, vec4(0.0));
+  complement = mix(near, far, positive);
+  return mix(far, near, positive);
+}
 
-// tanh(x) = sign(x) (1 - 2 / (e^{2|x|} + 1)), finite for every x (e^{2|x|} may overflow to inf). Below
-// |x| = 1/4, where that form cancels, the odd Taylor series to x^9 is accurate to float epsilon.
-vec4 stableTanh(vec4 x) {
+// tanh(x) = sign(x) (1 - e) / (1 + e) with e = exp(-2|x|), and 1 - tanh^2 = 4 e / (1 + e)^2. Below
+// |x| = 1/4, where 1 - e cancels, the odd Taylor series to x^9 is accurate to float epsilon.
+vec4 stableTanh(vec4 x, out vec4 derivative) {
   const vec4 a = abs(x);
-  const vec4 far = 1.0 - 2.0 / (exp(2.0 * a) + 1.0);
+  const vec4 e = exp(-2.0 * a);
   const vec4 x2 = x * x;
   const vec4 series = a * (1.0 + x2 * (-1.0 / 3.0 + x2 * (2.0 / 15.0 + x2 * (-17.0 / 315.0 + x2 * (62.0 / 2835.0)))));
-  return sign(x) * mix(far, series, lessThan(a, vec4(0.25)));
+  derivative = 4.0 * e / ((1.0 + e) * (1.0 + e));
+  return sign(x) * mix((1.0 - e) / (1.0 + e), series, lessThan(a, vec4(0.25)));
 }
 
 vec4 forward(vec4 x) {
+  vec4 unused;
   if (KIND == 0) return max(x, 0.0);
   if (KIND == 1) return mix(slope * x, x, greaterThan(x, vec4(0.0)));
-  if (KIND == 2) return x * sigmoid(x);
-  if (KIND == 3) return sigmoid(x);
-  return stableTanh(x);
+  if (KIND == 2) return x * sigmoid(x, unused);
+  if (KIND == 3) return sigmoid(x, unused);
+  return stableTanh(x, unused);
 }
 
-// gy * f'(x); relu and leaky relu select rather than multiply, so gx is exactly 0 or gy, slope gy.
+// gy f'(x); relu and leaky relu select rather than multiply, so gx is exactly 0, gy or slope gy.
 vec4 backward(vec4 x, vec4 gy) {
   if (KIND == 0) return mix(vec4(0.0), gy, greaterThan(x, vec4(0.0)));
   if (KIND == 1) return mix(slope * gy, gy, greaterThan(x, vec4(0.0)));
-  if (KIND == 2) {
-    const vec4 s = sigmoid(x);
-    return gy * s * (1.0 + x * (1.0 - s));
+  vec4 derivative;
+  if (KIND == 4) {
+    stableTanh(x, derivative);
+    return gy * derivative;
   }
-  if (KIND == 3) {
-    const vec4 s = sigmoid(x);
-    return gy * s * (1.0 - s);
-  }
-  const vec4 t = stableTanh(x);
-  return gy * (1.0 - t * t);
+  vec4 complement;
+  const vec4 s = sigmoid(x, complement);
+  return KIND == 2 ? gy * s * (1.0 + x * complement) : gy * s * complement;
 }
 
 void main() {
