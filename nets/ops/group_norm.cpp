@@ -9,7 +9,6 @@ namespace {
 
 constexpr uint32_t kReduceWorkgroup = 64;  // a power of two: the shared-memory tree halves it
 constexpr int32_t kChunk = 4096;           // elements one reducing workgroup covers
-constexpr std::array<uint32_t, 3> kApplyWorkgroup{64, 1, 1};
 constexpr int64_t kMaxGroups = 65535;
 
 int32_t chunksOf(int64_t elements) { return static_cast<int32_t>((elements + kChunk - 1) / kChunk); }
@@ -21,20 +20,18 @@ void requireShape(const char* name, const Tensor& tensor, const Shape& expected)
                 toString(expected));
 }
 
-// Grid of the per-plane kernels: element quads along x, planes (strided) along workgroup y.
+// Grid of the per-plane kernels: chunks of a plane along x, planes along y.
 std::array<uint32_t, 3> planeGrid(const GroupNormShape& s) {
-  const int64_t quads = (s.planeSize + 3) / 4;
-  return {static_cast<uint32_t>((quads + kApplyWorkgroup[0] - 1) / kApplyWorkgroup[0]),
-          static_cast<uint32_t>(std::min(s.batch * s.channels, kMaxGroups)), 1};
+  return {static_cast<uint32_t>(chunksOf(s.planeSize)), static_cast<uint32_t>(s.batch * s.channels), 1};
 }
 
 struct PlanePush {
-  int32_t planeSize, planes, channels, channelsPerGroup;
+  int32_t planeSize, channels, channelsPerGroup;
 };
 
 PlanePush planePush(const GroupNormShape& s) {
-  return {static_cast<int32_t>(s.planeSize), static_cast<int32_t>(s.batch * s.channels),
-          static_cast<int32_t>(s.channels), static_cast<int32_t>(s.channels / s.groups)};
+  return {static_cast<int32_t>(s.planeSize), static_cast<int32_t>(s.channels),
+          static_cast<int32_t>(s.channels / s.groups)};
 }
 
 }  // namespace
@@ -73,7 +70,7 @@ void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, cons
                       static_cast<uint64_t>(blocks));
 
   const int32_t planeVec4 = vec4When(s.planeSize);
-  stream.dispatch(stream.kernel("nn/group_norm_apply", kApplyWorkgroup, {planeVec4}),
+  stream.dispatch(stream.kernel("nn/group_norm_apply", {kReduceWorkgroup, 1, 1}, {planeVec4, kChunk}),
                   {planeVec4 ? asVec4(x) : Arg(x), gamma, beta, stats, y}, planePush(s), planeGrid(s));
 }
 
@@ -107,7 +104,7 @@ void groupNormBackward(Stream& stream, const Tensor& x, const Tensor& gamma, con
                       {partial, gamma, ggamma, gbeta, coef}, finalizePush,
                       static_cast<uint64_t>(std::max(s.channels, s.batch * groups)));
 
-  stream.dispatch(stream.kernel("nn/group_norm_backward_apply", kApplyWorkgroup, {vec4}),
+  stream.dispatch(stream.kernel("nn/group_norm_backward_apply", {kReduceWorkgroup, 1, 1}, {vec4, kChunk}),
                   {xArg, gyArg, gamma, stats, coef, gx}, planePush(s), planeGrid(s));
 }
 
