@@ -1,27 +1,15 @@
 #include "nets/ops/resample.h"
 
 #include <algorithm>
+#include <numeric>
 
 #include "runtime/error.h"
 
 namespace smokesvd::ops {
 namespace {
 
-constexpr std::array<uint32_t, 3> kWorkgroup{16, 4, 1};
-constexpr int64_t kMaxGroups = 65535;
-
-struct Push {
-  int32_t inSize[3];  // (W, H, D)
-  int32_t layers;
-  int32_t outSize[3];
-};
-
-// (W, H, D) of a 4D or 5D shape; D = 1 for 4D.
-std::array<int32_t, 3> spatialSize(const Shape& shape) {
-  const std::size_t r = shape.size();
-  return {static_cast<int32_t>(shape[r - 1]), static_cast<int32_t>(shape[r - 2]),
-          static_cast<int32_t>(r == 5 ? shape[2] : 1)};
-}
+constexpr uint32_t kWorkgroup = 64;
+constexpr int64_t kQuadsPerInvocation = 4;  // SEGMENT in resample_rows.comp
 
 void requireShape(const char* op, const char* name, const Tensor& tensor, const Shape& expected) {
   if (tensor.shape() != expected)
@@ -29,22 +17,51 @@ void requireShape(const char* op, const char* name, const Tensor& tensor, const 
                 toString(expected));
 }
 
-// Records the kernel that writes `written` (y forward, gx backward) from `source`.
-void run(Stream& stream, const Resample& resample, bool backward, const Shape& in, const Shape& out,
-         const Tensor& source, const Tensor& written) {
-  const auto inSize = spatialSize(in);
-  const auto outSize = spatialSize(out);
-  const auto& size = backward ? inSize : outSize;
-  const int64_t layers = in[0] * in[1] * size[2];
-  const Push push{{inSize[0], inSize[1], inSize[2]}, static_cast<int32_t>(layers), {outSize[0], outSize[1], outSize[2]}};
-  const Kernel& kernel =
-      stream.kernel("nn/resample", kWorkgroup,
-                    {static_cast<int32_t>(resample.mode), resample.down ? 1 : 0, resample.factor,
-                     static_cast<int32_t>(in.size()) - 2, backward ? 1 : 0});
-  stream.dispatch(kernel, {source, written}, push,
-                  {static_cast<uint32_t>((size[0] + kWorkgroup[0] - 1) / kWorkgroup[0]),
-                   static_cast<uint32_t>((size[1] + kWorkgroup[1] - 1) / kWorkgroup[1]),
-                   static_cast<uint32_t>(std::min(layers, kMaxGroups))});
+int64_t product(const Shape& shape, std::size_t begin, std::size_t end) {
+  return std::accumulate(shape.begin() + static_cast<std::ptrdiff_t>(begin),
+                         shape.begin() + static_cast<std::ptrdiff_t>(end), int64_t{1}, std::multiplies<>());
+}
+
+// The spatial axes in the order the forward resamples them: W first when upsampling (its gathering
+// kernel then runs on the smallest tensor), W last when downsampling.
+std::vector<std::size_t> forwardAxes(const Shape& shape, const Resample& resample) {
+  std::vector<std::size_t> axes;
+  for (std::size_t axis = shape.size(); axis-- > 2;) axes.push_back(axis);
+  if (resample.down) std::reverse(axes.begin(), axes.end());
+  return axes;
+}
+
+// One pass along `axis`: forward reads `from` (size n along the axis) and writes `to` (size m);
+// backward reads the gradient of size m and writes that of size n.
+void axisPass(Stream& stream, const Resample& resample, bool backward, std::size_t axis, const Tensor& from,
+              const Tensor& to) {
+  const Shape& input = backward ? to.shape() : from.shape();
+  const Shape& output = backward ? from.shape() : to.shape();
+  const int32_t n = static_cast<int32_t>(input[axis]);
+  const int32_t m = static_cast<int32_t>(output[axis]);
+  const int64_t inner = product(input, axis + 1, input.size());
+  const bool fastest = axis + 1 == input.size();
+  // rows of the tensor written: (outer, index along the axis) for an outer axis, outer for the fastest
+  const int64_t rowsWritten = product(to.shape(), 0, fastest ? axis : axis + 1);
+  const int64_t rowLength = fastest ? to.shape()[axis] : inner;
+  const int64_t quadsPerRow = (rowLength + 3) / 4;
+  const bool aligned = rowLength % 4 == 0;
+  const Kernel& kernel = stream.kernel(fastest ? "nn/resample_x" : "nn/resample_rows", {kWorkgroup, 1, 1},
+                                       {static_cast<int32_t>(resample.mode), resample.down ? 1 : 0, resample.factor,
+                                        backward ? 1 : 0, aligned ? 1 : 0});
+  if (fastest) {
+    const uint64_t items = static_cast<uint64_t>(rowsWritten * quadsPerRow);
+    struct { int32_t n, m, quadsPerRow; uint32_t items; } push{n, m, static_cast<int32_t>(quadsPerRow),
+                                                              static_cast<uint32_t>(items)};
+    stream.dispatchFlat(kernel, {from, to}, push, items);
+  } else {
+    const int64_t segmentsPerRow = (quadsPerRow + kQuadsPerInvocation - 1) / kQuadsPerInvocation;
+    const uint64_t items = static_cast<uint64_t>(rowsWritten * segmentsPerRow);
+    struct { int32_t n, m, inner, quadsPerRow, segmentsPerRow; uint32_t items; } push{
+        n, m, static_cast<int32_t>(inner), static_cast<int32_t>(quadsPerRow), static_cast<int32_t>(segmentsPerRow),
+        static_cast<uint32_t>(items)};
+    stream.dispatchFlat(kernel, {aligned ? asVec4(from) : Arg(from), to}, push, items);
+  }
 }
 
 }  // namespace
@@ -65,13 +82,31 @@ Shape resampledShape(const Shape& x, const Resample& resample) {
 }
 
 void resampleForward(Stream& stream, const Resample& resample, const Tensor& x, const Tensor& y) {
-  requireShape("resample", "y", y, resampledShape(x.shape(), resample));
-  run(stream, resample, false, x.shape(), y.shape(), x, y);
+  const Shape target = resampledShape(x.shape(), resample);
+  requireShape("resample", "y", y, target);
+  const std::vector<std::size_t> axes = forwardAxes(x.shape(), resample);
+  Tensor current = x;
+  for (std::size_t step = 0; step < axes.size(); ++step) {
+    Shape shape = current.shape();
+    shape[axes[step]] = target[axes[step]];
+    const Tensor next = step + 1 == axes.size() ? y : Tensor(stream.context(), shape);
+    axisPass(stream, resample, false, axes[step], current, next);
+    current = next;
+  }
 }
 
 void resampleBackward(Stream& stream, const Resample& resample, const Tensor& gy, const Tensor& gx) {
   requireShape("resample backward", "gy", gy, resampledShape(gx.shape(), resample));
-  run(stream, resample, true, gx.shape(), gy.shape(), gy, gx);
+  std::vector<std::size_t> axes = forwardAxes(gx.shape(), resample);
+  std::reverse(axes.begin(), axes.end());
+  Tensor current = gy;
+  for (std::size_t step = 0; step < axes.size(); ++step) {
+    Shape shape = current.shape();
+    shape[axes[step]] = gx.shape()[axes[step]];
+    const Tensor next = step + 1 == axes.size() ? gx : Tensor(stream.context(), shape);
+    axisPass(stream, resample, true, axes[step], current, next);
+    current = next;
+  }
 }
 
 }  // namespace smokesvd::ops
