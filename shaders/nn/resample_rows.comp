@@ -73,12 +73,14 @@ void main() {
     return;
   }
   const ivec2 range = candidates(j, m);
-  for (int q = firstQuad; q < endQuad; ++q) {
-    vec4 value = vec4(0.0);
-    for (int o = range.x; o < range.y; ++o) {
-      const float w = weight(o, j, n);
-      if (w != 0.0) value += w * load(a * m + o, 4 * q);
-    }
-    store(row, 4 * q, value);
+  vec4 value[SEGMENT];
+  for (int q = 0; q < SEGMENT; ++q) value[q] = vec4(0.0);
+  for (int o = range.x; o < range.y; ++o) {
+    const float w = weight(o, j, n);
+    if (w == 0.0) continue;
+    for (int q = 0; q < SEGMENT; ++q)
+      if (firstQuad + q < endQuad) value[q] += w * load(a * m + o, 4 * (firstQuad + q));
   }
+  for (int q = 0; q < SEGMENT; ++q)
+    if (firstQuad + q < endQuad) store(row, 4 * (firstQuad + q), value[q]);
 }

@@ -77,7 +77,8 @@ std::vector<Resample> allResamples(std::initializer_list<int> factors) {
 }
 
 TEST_F(ResampleTest, ForwardMatchesPyTorchSemanticsOnOddShapes) {
-  for (const Shape& shape : {Shape{2, 3, 7, 9}, Shape{1, 2, 5, 9, 7}})
+  // odd widths take the scalar paths, widths and planes that are multiples of 4 the vec4 paths
+  for (const Shape& shape : {Shape{2, 3, 7, 9}, Shape{1, 2, 5, 9, 7}, Shape{1, 2, 5, 8}, Shape{2, 1, 4, 5, 12}})
     for (const Resample& r : allResamples({2, 3, 4})) {
       SCOPED_TRACE(describe(r, shape));
       std::vector<float> x;
@@ -116,7 +117,7 @@ TEST_F(ResampleTest, KnownValuesOfLinearResampling) {
 }
 
 TEST_F(ResampleTest, BackwardMatchesFiniteDifferences) {
-  for (const Shape& shape : {Shape{2, 1, 5, 7}, Shape{1, 2, 3, 5, 4}})
+  for (const Shape& shape : {Shape{2, 1, 5, 7}, Shape{1, 2, 3, 5, 4}, Shape{1, 1, 3, 8}, Shape{1, 1, 3, 3, 8}})
     for (const Resample& r : allResamples({2, 3})) {
       SCOPED_TRACE(describe(r, shape));
       std::vector<float> x, g;
