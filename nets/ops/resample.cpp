@@ -64,6 +64,25 @@ void axisPass(Stream& stream, const Resample& resample, bool backward, std::size
   }
 }
 
+// Upsampling of inputs whose width is a multiple of 4, in one pass (shaders/nn/resample_up.comp).
+void upsampleAligned(Stream& stream, const Resample& resample, const Tensor& x, const Tensor& y) {
+  const Shape& in = x.shape();
+  const Shape& out = y.shape();
+  const bool volume = in.size() == 5;
+  const int32_t inW = static_cast<int32_t>(in.back()), inH = static_cast<int32_t>(in[in.size() - 2]);
+  const int32_t inD = volume ? static_cast<int32_t>(in[2]) : 1, outD = volume ? static_cast<int32_t>(out[2]) : 1;
+  const int32_t cells = resample.mode == ResampleMode::Linear ? inH + 1 : inH;
+  const uint64_t items = static_cast<uint64_t>(in[0] * in[1] * outD * cells * (inW / 4));
+  struct {
+    int32_t inSize[3], texelsPerRow, outSize[3], cells;
+    uint32_t items;
+  } push{{inW, inH, inD}, inW / 4, {static_cast<int32_t>(out.back()), static_cast<int32_t>(out[out.size() - 2]), outD},
+         cells, static_cast<uint32_t>(items)};
+  const Kernel& kernel = stream.kernel("nn/resample_up", {kWorkgroup, 1, 1},
+                                       {static_cast<int32_t>(resample.mode), resample.factor, volume ? 3 : 2});
+  stream.dispatchFlat(kernel, {asVec4(x), y}, push, items);
+}
+
 }  // namespace
 
 Shape resampledShape(const Shape& x, const Resample& resample) {
@@ -84,6 +103,10 @@ Shape resampledShape(const Shape& x, const Resample& resample) {
 void resampleForward(Stream& stream, const Resample& resample, const Tensor& x, const Tensor& y) {
   const Shape target = resampledShape(x.shape(), resample);
   requireShape("resample", "y", y, target);
+  if (!resample.down && x.shape().back() % 4 == 0) {
+    upsampleAligned(stream, resample, x, y);
+    return;
+  }
   const std::vector<std::size_t> axes = forwardAxes(x.shape(), resample);
   Tensor current = x;
   for (std::size_t step = 0; step < axes.size(); ++step) {
