@@ -45,6 +45,15 @@ void axisPass(Stream& stream, const Resample& resample, bool backward, std::size
   const int64_t rowsWritten = product(to.shape(), 0, fastest ? axis : axis + 1);
   const int64_t rowLength = fastest ? to.shape()[axis] : inner;
   const int64_t quadsPerRow = (rowLength + 3) / 4;
+  if (fastest && backward && !resample.down && n % 4 == 0) {
+    // the transpose of upsampling along W reads whole gy texels (shaders/nn/resample_up_backward_x.comp)
+    const uint64_t items = static_cast<uint64_t>(rowsWritten * (n / 4));
+    struct { int32_t texelsPerRow; uint32_t items; } push{n / 4, static_cast<uint32_t>(items)};
+    stream.dispatchFlat(stream.kernel("nn/resample_up_backward_x", {kWorkgroup, 1, 1},
+                                      {static_cast<int32_t>(resample.mode), resample.factor}),
+                        {asVec4(from), to}, push, items);
+    return;
+  }
   const bool aligned = rowLength % 4 == 0;
   const Kernel& kernel = stream.kernel(fastest ? "nn/resample_x" : "nn/resample_rows", {kWorkgroup, 1, 1},
                                        {static_cast<int32_t>(resample.mode), resample.down ? 1 : 0, resample.factor,
@@ -71,13 +80,16 @@ void upsampleAligned(Stream& stream, const Resample& resample, const Tensor& x, 
   const bool volume = in.size() == 5;
   const int32_t inW = static_cast<int32_t>(in.back()), inH = static_cast<int32_t>(in[in.size() - 2]);
   const int32_t inD = volume ? static_cast<int32_t>(in[2]) : 1, outD = volume ? static_cast<int32_t>(out[2]) : 1;
-  const int32_t cells = resample.mode == ResampleMode::Linear ? inH + 1 : inH;
-  const uint64_t items = static_cast<uint64_t>(in[0] * in[1] * outD * cells * (inW / 4));
+  // cells of outputs that read the same input rows: n + 1 along an axis (linear), n (nearest), 1 (2D depth)
+  const int32_t extra = resample.mode == ResampleMode::Linear ? 1 : 0;
+  const int32_t cellsY = inH + extra, cellsZ = volume ? inD + extra : 1;
+  const uint64_t items = static_cast<uint64_t>(in[0] * in[1] * cellsZ * cellsY * (inW / 4));
   struct {
-    int32_t inSize[3], texelsPerRow, outSize[3], cells;
+    int32_t inSize[3], texelsPerRow, outSize[3];
     uint32_t items;
+    int32_t cells[2];
   } push{{inW, inH, inD}, inW / 4, {static_cast<int32_t>(out.back()), static_cast<int32_t>(out[out.size() - 2]), outD},
-         cells, static_cast<uint32_t>(items)};
+         static_cast<uint32_t>(items), {cellsY, cellsZ}};
   const Kernel& kernel = stream.kernel("nn/resample_up", {kWorkgroup, 1, 1},
                                        {static_cast<int32_t>(resample.mode), resample.factor, volume ? 3 : 2});
   stream.dispatchFlat(kernel, {asVec4(x), y}, push, items);
