@@ -31,46 +31,73 @@ std::vector<std::size_t> forwardAxes(const Shape& shape, const Resample& resampl
   return axes;
 }
 
+// The sizes of one pass along an axis: n inputs and m outputs along it, `rows` rows written (for W: the
+// rows of the tensor; for H or D: (outer index, index along the axis)) of `rowLength` elements each.
+struct AxisPass {
+  int32_t n, m;
+  int64_t inner, rows, rowLength;
+  bool fastest;
+};
+
+AxisPass axisPass(std::size_t axis, const Shape& input, const Shape& output, const Shape& written) {
+  AxisPass pass{static_cast<int32_t>(input[axis]), static_cast<int32_t>(output[axis]),
+                product(input, axis + 1, input.size()), 0, 0, axis + 1 == input.size()};
+  pass.rows = product(written, 0, pass.fastest ? axis : axis + 1);
+  pass.rowLength = pass.fastest ? written[axis] : pass.inner;
+  return pass;
+}
+
+std::vector<int32_t> constants(const Resample& resample, bool backward, bool aligned) {
+  return {static_cast<int32_t>(resample.mode), resample.down ? 1 : 0, resample.factor, backward ? 1 : 0, aligned ? 1 : 0};
+}
+
+// Along H or D: whole rows combined as vec4s (shaders/nn/resample_rows.comp).
+void rowsPass(Stream& stream, const Resample& resample, bool backward, const AxisPass& pass, const Tensor& from,
+              const Tensor& to) {
+  const bool aligned = pass.inner % 4 == 0;
+  const int64_t quadsPerRow = (pass.inner + 3) / 4;
+  const int64_t segmentsPerRow = (quadsPerRow + kQuadsPerInvocation - 1) / kQuadsPerInvocation;
+  const uint64_t items = static_cast<uint64_t>(pass.rows * segmentsPerRow);
+  struct { int32_t n, m, inner, quadsPerRow, segmentsPerRow; uint32_t items; } push{
+      pass.n, pass.m, static_cast<int32_t>(pass.inner), static_cast<int32_t>(quadsPerRow),
+      static_cast<int32_t>(segmentsPerRow), static_cast<uint32_t>(items)};
+  const Kernel& kernel = stream.kernel("nn/resample_rows", {kWorkgroup, 1, 1}, constants(resample, backward, aligned));
+  stream.dispatchFlat(kernel, {aligned ? asVec4(from) : Arg(from), to}, push, items);
+}
+
+// Along W by gathering scalars (shaders/nn/resample_x.comp).
+void gatherPass(Stream& stream, const Resample& resample, bool backward, const AxisPass& pass, const Tensor& from,
+                const Tensor& to) {
+  const int64_t quadsPerRow = (pass.rowLength + 3) / 4;
+  const uint64_t items = static_cast<uint64_t>(pass.rows * quadsPerRow);
+  struct { int32_t n, m, quadsPerRow; uint32_t items; } push{pass.n, pass.m, static_cast<int32_t>(quadsPerRow),
+                                                            static_cast<uint32_t>(items)};
+  const Kernel& kernel =
+      stream.kernel("nn/resample_x", {kWorkgroup, 1, 1}, constants(resample, backward, pass.rowLength % 4 == 0));
+  stream.dispatchFlat(kernel, {from, to}, push, items);
+}
+
+// The transpose of upsampling along W for widths divisible by 4, reading whole gy texels
+// (shaders/nn/resample_up_backward_x.comp).
+void upsampleTransposeW(Stream& stream, const Resample& resample, const AxisPass& pass, const Tensor& gy,
+                        const Tensor& gx) {
+  const uint64_t items = static_cast<uint64_t>(pass.rows * (pass.n / 4));
+  struct { int32_t texelsPerRow; uint32_t items; } push{pass.n / 4, static_cast<uint32_t>(items)};
+  const Kernel& kernel = stream.kernel("nn/resample_up_backward_x", {kWorkgroup, 1, 1},
+                                       {static_cast<int32_t>(resample.mode), resample.factor});
+  stream.dispatchFlat(kernel, {asVec4(gy), gx}, push, items);
+}
+
 // One pass along `axis`: forward reads `from` (size n along the axis) and writes `to` (size m);
 // backward reads the gradient of size m and writes that of size n.
-void axisPass(Stream& stream, const Resample& resample, bool backward, std::size_t axis, const Tensor& from,
-              const Tensor& to) {
+void resampleAxis(Stream& stream, const Resample& resample, bool backward, std::size_t axis, const Tensor& from,
+                  const Tensor& to) {
   const Shape& input = backward ? to.shape() : from.shape();
   const Shape& output = backward ? from.shape() : to.shape();
-  const int32_t n = static_cast<int32_t>(input[axis]);
-  const int32_t m = static_cast<int32_t>(output[axis]);
-  const int64_t inner = product(input, axis + 1, input.size());
-  const bool fastest = axis + 1 == input.size();
-  // rows of the tensor written: (outer, index along the axis) for an outer axis, outer for the fastest
-  const int64_t rowsWritten = product(to.shape(), 0, fastest ? axis : axis + 1);
-  const int64_t rowLength = fastest ? to.shape()[axis] : inner;
-  const int64_t quadsPerRow = (rowLength + 3) / 4;
-  if (fastest && backward && !resample.down && n % 4 == 0) {
-    // the transpose of upsampling along W reads whole gy texels (shaders/nn/resample_up_backward_x.comp)
-    const uint64_t items = static_cast<uint64_t>(rowsWritten * (n / 4));
-    struct { int32_t texelsPerRow; uint32_t items; } push{n / 4, static_cast<uint32_t>(items)};
-    stream.dispatchFlat(stream.kernel("nn/resample_up_backward_x", {kWorkgroup, 1, 1},
-                                      {static_cast<int32_t>(resample.mode), resample.factor}),
-                        {asVec4(from), to}, push, items);
-    return;
-  }
-  const bool aligned = rowLength % 4 == 0;
-  const Kernel& kernel = stream.kernel(fastest ? "nn/resample_x" : "nn/resample_rows", {kWorkgroup, 1, 1},
-                                       {static_cast<int32_t>(resample.mode), resample.down ? 1 : 0, resample.factor,
-                                        backward ? 1 : 0, aligned ? 1 : 0});
-  if (fastest) {
-    const uint64_t items = static_cast<uint64_t>(rowsWritten * quadsPerRow);
-    struct { int32_t n, m, quadsPerRow; uint32_t items; } push{n, m, static_cast<int32_t>(quadsPerRow),
-                                                              static_cast<uint32_t>(items)};
-    stream.dispatchFlat(kernel, {from, to}, push, items);
-  } else {
-    const int64_t segmentsPerRow = (quadsPerRow + kQuadsPerInvocation - 1) / kQuadsPerInvocation;
-    const uint64_t items = static_cast<uint64_t>(rowsWritten * segmentsPerRow);
-    struct { int32_t n, m, inner, quadsPerRow, segmentsPerRow; uint32_t items; } push{
-        n, m, static_cast<int32_t>(inner), static_cast<int32_t>(quadsPerRow), static_cast<int32_t>(segmentsPerRow),
-        static_cast<uint32_t>(items)};
-    stream.dispatchFlat(kernel, {aligned ? asVec4(from) : Arg(from), to}, push, items);
-  }
+  const AxisPass pass = axisPass(axis, input, output, to.shape());
+  if (!pass.fastest) rowsPass(stream, resample, backward, pass, from, to);
+  else if (backward && !resample.down && pass.n % 4 == 0) upsampleTransposeW(stream, resample, pass, from, to);
+  else gatherPass(stream, resample, backward, pass, from, to);
 }
 
 // Upsampling of inputs whose width is a multiple of 4, in one pass (shaders/nn/resample_up.comp).
@@ -125,7 +152,7 @@ void resampleForward(Stream& stream, const Resample& resample, const Tensor& x, 
     Shape shape = current.shape();
     shape[axes[step]] = target[axes[step]];
     const Tensor next = step + 1 == axes.size() ? y : Tensor(stream.context(), shape);
-    axisPass(stream, resample, false, axes[step], current, next);
+    resampleAxis(stream, resample, false, axes[step], current, next);
     current = next;
   }
 }
@@ -139,7 +166,7 @@ void resampleBackward(Stream& stream, const Resample& resample, const Tensor& gy
     Shape shape = current.shape();
     shape[axes[step]] = gx.shape()[axes[step]];
     const Tensor next = step + 1 == axes.size() ? gx : Tensor(stream.context(), shape);
-    axisPass(stream, resample, true, axes[step], current, next);
+    resampleAxis(stream, resample, true, axes[step], current, next);
     current = next;
   }
 }
