@@ -48,7 +48,8 @@ AxisPass axisPass(std::size_t axis, const Shape& input, const Shape& output, con
 }
 
 std::vector<int32_t> constants(const Resample& resample, bool backward, bool aligned) {
-  return {static_cast<int32_t>(resample.mode), resample.down ? 1 : 0, resample.factor, backward ? 1 : 0, aligned ? 1 : 0};
+  return {static_cast<int32_t>(resample.mode), resample.down ? 1 : 0, resample.factor, backward ? 1 : 0,
+          aligned ? 1 : 0};
 }
 
 // Along H or D: whole rows combined as vec4s (shaders/nn/resample_rows.comp).
@@ -128,7 +129,8 @@ Shape resampledShape(const Shape& x, const Resample& resample) {
   const bool spatial = (x.size() == 4 || x.size() == 5) &&
                        std::all_of(x.begin(), x.end(), [](int64_t s) { return s >= 1; });
   if (!spatial) throw Error("resample: expected a non-empty N,C,H,W or N,C,D,H,W tensor, got " + toString(x));
-  if (resample.factor < 1) throw Error("resample: the factor must be at least 1, got " + std::to_string(resample.factor));
+  if (resample.factor < 1)
+    throw Error("resample: the factor must be at least 1, got " + std::to_string(resample.factor));
   Shape out = x;
   for (std::size_t axis = 2; axis < out.size(); ++axis) {
     out[axis] = resample.down ? x[axis] / resample.factor : x[axis] * resample.factor;

@@ -43,7 +43,9 @@ int rowStart(int plane, ivec3 start, int r) {
 // Pooling of one window whose elements are read by the caller in scan order; v replaces the best when
 // it is larger, or a NaN where the best is not.
 bool better(float v, float best) { return v > best || (isnan(v) && !isnan(best)); }
-bvec4 better(vec4 v, vec4 best) { return bvec4(better(v.x, best.x), better(v.y, best.y), better(v.z, best.z), better(v.w, best.w)); }
+bvec4 better(vec4 v, vec4 best) {
+  return bvec4(better(v.x, best.x), better(v.y, best.y), better(v.z, best.z), better(v.w, best.w));
+}
 
 void storeElement(int index, float value) { result[index / 4][index % 4] = value; }
 
@@ -70,7 +72,8 @@ void elementWindow(int plane, ivec3 start, int outIndex) {
   if (BACKWARD == 0) {
     if (MAX == 0)
       for (int r = 0; r < 2 * KZ; ++r)
-        for (int dx = 0; dx < width && rowInside(start, r); ++dx) sum += texelFetch(x, rowStart(plane, start, r) + dx).r;
+        for (int dx = 0; dx < width && rowInside(start, r); ++dx)
+          sum += texelFetch(x, rowStart(plane, start, r) + dx).r;
     storeElement(outIndex, MAX != 0 ? best : sum / count);
     return;
   }
@@ -135,7 +138,8 @@ void main() {
     if (ALIGNED != 0) {
       quadWindow(plane, start, outIndex);
     } else {
-      for (int t = 0; t < 4 && 4 * q + t < outSize.x; ++t) elementWindow(plane, start + ivec3(2 * t, 0, 0), outIndex + t);
+      for (int t = 0; t < 4 && 4 * q + t < outSize.x; ++t)
+        elementWindow(plane, start + ivec3(2 * t, 0, 0), outIndex + t);
     }
   }
 }

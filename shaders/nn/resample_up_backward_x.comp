@@ -2,14 +2,15 @@
 #extension GL_GOOGLE_include_directive : require
 // The transpose of upsampling by k along W, for input widths that are multiples of 4:
 //   gx[r, i] = sum_o weight(o, i) gy[r, o]    (weight: resample_stencil.glsl)
-// One invocation writes input texel p of row r (columns 4p .. 4p + 3), reading the vec4 texels of gy
-// that hold output columns 4kp + t, t in [T_BEGIN, T_END). Output column o = 4kp + t has
-// source position 4p + (2t + 1 - k) / 2k, i.e. j0 = floor((2t + 1 - k) / 2k) relative to 4p with weight
-// 1 - w and j0 + 1 with weight w, all constants of t; the columns t in [-(k + 1) / 2, (9k - 1) / 2) reach
-// j in [-1, 4]. Linear only (nearest: gx[i] = sum of its k outputs, also handled: j0 = t / k, w = 0).
-// At the row's ends the clamped border outputs give their whole weight to the first or last column:
-// contributions to j = -1 fold into column 0 when p = 0 and those to j = 4 into column 3 at the last p
-// (outputs outside the row, t < 0 at p = 0 and t >= 4k at the last p, are not read).
+// One invocation writes input texel p of row r (columns 4p .. 4p + 3) from the gy texels holding output
+// columns 4kp + t, t in [T_BEGIN, T_END). Relative to column 4p, output t reads columns j0 (weight 1 - w)
+// and j0 + 1 (weight w), constants of t:
+//   linear:   j0 = floor((2t + 1 - k) / 2k), w = the remainder / 2k;   t in [-(k + 1) / 2, 9k / 2) reaches
+//             exactly the columns j in [-1, 4]
+//   nearest:  j0 = t / k, w = 0;                                         t in [0, 4k)
+// Outputs outside the row (t < 0 at p = 0, t >= 4k at the last p) are not read; there the clamped border
+// outputs give their whole weight to the edge column: contributions to j = -1 fold into column 0 when
+// p = 0, those to j = 4 into column 3 at the last p (elsewhere they belong to the neighbouring texel).
 // Specialization constants: MODE (3) 0 nearest, 1 linear; FACTOR (4) k.
 // Bindings: gy (vec4 texels), gx (storage, vec4).
 #include "index.glsl"

@@ -6,7 +6,8 @@
 //   backward  gx[r, i] = sum_{o in candidates(i)} weight(o, i) gy[r, o]
 // Each invocation writes 4 consecutive elements of one row (item = (row, quad)), gathering scalars;
 // with ALIGNED (written row length % 4 == 0) the quad is stored as one vec4.
-// Specialization constants: MODE, DOWN, FACTOR (resample_stencil.glsl), BACKWARD, ALIGNED. Bindings: source (float texels: x forward, gy backward), out (y or gx).
+// Specialization constants: MODE, DOWN, FACTOR (resample_stencil.glsl), BACKWARD, ALIGNED.
+// Bindings: source (float texels: x forward, gy backward), out (y forward, gx backward).
 #include "index.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int MODE = 1;      // 0 nearest, 1 linear
@@ -50,7 +51,8 @@ void main() {
   const int row = int(item) / quadsPerRow;
   const int first = 4 * (int(item) - row * quadsPerRow);
   const int length = BACKWARD != 0 ? n : m;  // of the rows written
-  const vec4 value = vec4(element(row, first), element(row, first + 1), element(row, first + 2), element(row, first + 3));
+  const vec4 value =
+      vec4(element(row, first), element(row, first + 1), element(row, first + 2), element(row, first + 3));
   const int start = row * length + first;
   if (ALIGNED != 0) {
     result[start / 4] = value;

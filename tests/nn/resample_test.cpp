@@ -30,7 +30,8 @@ struct AxisStencil {
 AxisStencil axisStencil(const Resample& r, int64_t o, int64_t in) {
   const double scale = r.down ? r.factor : 1.0 / r.factor;
   if (r.mode == ResampleMode::Nearest) {
-    const int64_t i = std::min<int64_t>(static_cast<int64_t>(std::floor(static_cast<float>(o) * static_cast<float>(scale))), in - 1);
+    const float source = std::floor(static_cast<float>(o) * static_cast<float>(scale));
+    const int64_t i = std::min<int64_t>(static_cast<int64_t>(source), in - 1);
     return {i, i, 0.0};
   }
   const double src = std::max(scale * (static_cast<double>(o) + 0.5) - 0.5, 0.0);

@@ -20,10 +20,11 @@ Tensor filled(Context& context, const Shape& shape, float value) {
   return tensor;
 }
 
-// Varied values so max-pool and GroupNorm see real data: x[i] = sin-like ramp from a scaled copy.
+// Values scattered over [-1, 1) (a multiplicative hash of the index), so max-pool windows are not ties.
 Tensor varied(Context& context, const Shape& shape) {
   std::vector<float> values(static_cast<std::size_t>(numElements(shape)));
-  for (std::size_t i = 0; i < values.size(); ++i) values[i] = static_cast<float>((i * 2654435761u) % 1000) / 500.0f - 1.0f;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    values[i] = static_cast<float>((i * 2654435761u) % 1000) / 500.0f - 1.0f;
   return Tensor::fromHost(context, shape, values);
 }
 
@@ -107,9 +108,9 @@ void pointwise(BenchContext& b) {
   b.measure("layers/dropout", label, bytesOf(shape, 2), 0, [&](Stream& s) { ops::dropout(s, x, 0.1f, 1, y); });
 }
 
-const bool registered = registerBenchmark({"layers/group_norm", groupNorms}) &&
-                        registerBenchmark({"layers/resample", trilinear}) &&
-                        registerBenchmark({"layers/pool", pooling}) && registerBenchmark({"layers/pointwise", pointwise});
+const bool registered =
+    registerBenchmark({"layers/group_norm", groupNorms}) && registerBenchmark({"layers/resample", trilinear}) &&
+    registerBenchmark({"layers/pool", pooling}) && registerBenchmark({"layers/pointwise", pointwise});
 
 }  // namespace
 }  // namespace smokesvd::bench
