@@ -89,6 +89,21 @@ void upsampleTransposeW(Stream& stream, const Resample& resample, const AxisPass
   stream.dispatchFlat(kernel, {asVec4(gy), gx}, push, items);
 }
 
+// The transpose of upsampling along H or D for rows divisible by 4, reading every gy row once
+// (shaders/nn/resample_up_backward_rows.comp).
+void upsampleTransposeRows(Stream& stream, const Resample& resample, const AxisPass& pass, const Tensor& gy,
+                           const Tensor& gx) {
+  constexpr int64_t kRun = 8;  // RUN in the shader
+  const int64_t outer = pass.rows / pass.n;
+  const int64_t runs = (pass.n + kRun - 1) / kRun;
+  const uint64_t items = static_cast<uint64_t>(outer * runs * (pass.inner / 4));
+  struct { int32_t n, quadsPerRow, runs; uint32_t items; } push{pass.n, static_cast<int32_t>(pass.inner / 4),
+                                                                static_cast<int32_t>(runs), static_cast<uint32_t>(items)};
+  const Kernel& kernel = stream.kernel("nn/resample_up_backward_rows", {kWorkgroup, 1, 1},
+                                       {static_cast<int32_t>(resample.mode), resample.factor});
+  stream.dispatchFlat(kernel, {asVec4(gy), gx}, push, items);
+}
+
 // One pass along `axis`: forward reads `from` (size n along the axis) and writes `to` (size m);
 // backward reads the gradient of size m and writes that of size n.
 void resampleAxis(Stream& stream, const Resample& resample, bool backward, std::size_t axis, const Tensor& from,
@@ -96,8 +111,10 @@ void resampleAxis(Stream& stream, const Resample& resample, bool backward, std::
   const Shape& input = backward ? to.shape() : from.shape();
   const Shape& output = backward ? from.shape() : to.shape();
   const AxisPass pass = axisPass(axis, input, output, to.shape());
-  if (!pass.fastest) rowsPass(stream, resample, backward, pass, from, to);
-  else if (backward && !resample.down && pass.n % 4 == 0) upsampleTransposeW(stream, resample, pass, from, to);
+  const bool upsampleTranspose = backward && !resample.down;
+  if (!pass.fastest && upsampleTranspose && pass.inner % 4 == 0) upsampleTransposeRows(stream, resample, pass, from, to);
+  else if (!pass.fastest) rowsPass(stream, resample, backward, pass, from, to);
+  else if (upsampleTranspose && pass.n % 4 == 0) upsampleTransposeW(stream, resample, pass, from, to);
   else gatherPass(stream, resample, backward, pass, from, to);
 }
 

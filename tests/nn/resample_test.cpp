@@ -118,7 +118,9 @@ TEST_F(ResampleTest, KnownValuesOfLinearResampling) {
 }
 
 TEST_F(ResampleTest, BackwardMatchesFiniteDifferences) {
-  for (const Shape& shape : {Shape{2, 1, 5, 7}, Shape{1, 2, 3, 5, 4}, Shape{1, 1, 3, 8}, Shape{1, 1, 3, 3, 8}})
+  // H = 19 and D = 10 span several runs of the row-wise transpose of upsampling (8 inputs each)
+  for (const Shape& shape : {Shape{2, 1, 5, 7}, Shape{1, 2, 3, 5, 4}, Shape{1, 1, 3, 8}, Shape{1, 1, 3, 3, 8},
+                             Shape{1, 1, 19, 4}, Shape{1, 1, 10, 3, 4}})
     for (const Resample& r : allResamples({2, 3})) {
       SCOPED_TRACE(describe(r, shape));
       std::vector<float> x, g;
