@@ -24,8 +24,10 @@ layout(push_constant) uniform Push { uint M, N, K; };
 
 uint m0, n0;
 
-float elementA(uint index) { return A_VEC4 ? texelFetch(A, int(index / 4u))[index % 4u] : texelFetch(A, int(index)).x; }
-float elementB(uint index) { return B_VEC4 ? texelFetch(B, int(index / 4u))[index % 4u] : texelFetch(B, int(index)).x; }
+// Single elements, for operands bound one float per texel. (The K tail also reaches them for a vec4
+// operand that is contiguous along k, but then K % 4 == 0 and the tail is empty.)
+float elementA(uint index) { return texelFetch(A, int(index)).x; }
+float elementB(uint index) { return texelFetch(B, int(index)).x; }
 uint row(uint i) { return min(m0 + i, M - 1u); }
 uint column(uint j) { return min(n0 + j, N - 1u); }
 
@@ -108,11 +110,14 @@ void main() {
     biasHigh = vec4(texelFetch(bias, int(column(4u))).x, texelFetch(bias, int(column(5u))).x,
                     texelFetch(bias, int(column(6u))).x, texelFetch(bias, int(column(7u))).x);
   }
-  for (uint i = 0u; i < 4u && m0 + i < M; ++i) {
+  for (uint i = 0u; i < 4u; ++i) {
+    if (m0 + i >= M) break;
     const vec4 valuesLow = low[i] + biasLow;
     const vec4 valuesHigh = high[i] + biasHigh;
     const uint base = (m0 + i) * N + n0;
-    for (uint j = 0u; j < 4u && n0 + j < N; ++j) C[base + j] = valuesLow[j];
-    for (uint j = 0u; j < 4u && n0 + 4u + j < N; ++j) C[base + 4u + j] = valuesHigh[j];
+    for (uint j = 0u; j < 4u; ++j) {
+      if (n0 + j < N) C[base + j] = valuesLow[j];
+      if (n0 + 4u + j < N) C[base + 4u + j] = valuesHigh[j];
+    }
   }
 }
