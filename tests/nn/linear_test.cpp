@@ -40,10 +40,12 @@ struct MatmulCase {
   int64_t M, N, K;
 };
 
-// Every layout with sizes that exercise the vec4 paths (multiples of 4), the scalar paths and the K tail.
+// Every layout with sizes that exercise the vec4 paths (multiples of 4), the scalar paths, the K tail and
+// more than one workgroup of rows. With a bias here; the backward kernels below run without one. (Each
+// layout and alignment is a pipeline of its own, which costs lavapipe a fraction of a second to build.)
 TEST_F(LinearTest, MatmulEveryLayoutMatchesReference) {
   for (const MatmulCase& size : {MatmulCase{9, 13, 11}, MatmulCase{8, 12, 16}, MatmulCase{12, 9, 17},
-                                 MatmulCase{5, 20, 8}, MatmulCase{1, 1, 1}, MatmulCase{37, 3, 6}}) {
+                                 MatmulCase{1, 1, 1}, MatmulCase{37, 3, 6}}) {
     for (bool transposeA : {false, true}) {
       for (bool transposeB : {false, true}) {
         SCOPED_TRACE(::testing::Message() << "M " << size.M << " N " << size.N << " K " << size.K << " transposeA "
@@ -54,15 +56,12 @@ TEST_F(LinearTest, MatmulEveryLayoutMatchesReference) {
         Tensor ta = randomTensor(context(), shapeA, 1, -1, 1, &a);
         Tensor tb = randomTensor(context(), shapeB, 2, -1, 1, &b);
         Tensor tbias = randomTensor(context(), {size.N}, 3, -1, 1, &bias);
-        Tensor plain = poisonedTensor(context(), {size.M, size.N});
         Tensor biased = poisonedTensor(context(), {size.M, size.N});
         Stream stream(context());
-        ops::matmul(stream, ta, transposeA, tb, transposeB, nullptr, plain);
         ops::matmul(stream, ta, transposeA, tb, transposeB, &tbias, biased);
         stream.submit();
         std::vector<double> expected =
             matmulReference(toDouble(a), transposeA, toDouble(b), transposeB, size.M, size.N, size.K);
-        EXPECT_TRUE(allClose(plain, expected, {1e-5, 1e-5}));
         for (int64_t m = 0; m < size.M; ++m)
           for (int64_t n = 0; n < size.N; ++n) expected[m * size.N + n] += bias[n];
         EXPECT_TRUE(allClose(biased, expected, {1e-5, 1e-5}));
