@@ -6,6 +6,7 @@
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/gradcheck.h"
+#include "tests/harness/op_runner.h"
 #include "tests/harness/random.h"
 
 namespace smokesvd::testing {
@@ -154,6 +155,37 @@ TEST_F(BroadcastTest, ReshapeIsAViewWithReshapedGradient) {
   EXPECT_EQ(x->grad.shape(), (Shape{2, 6}));
   EXPECT_TRUE(allClose(x->grad, std::vector<double>(12, 1.0), {0, 0}));
   EXPECT_THROW(fn::reshape(tape, x, {5}), Error);
+}
+
+// The runner's broadcast ops and reshape, forward and backward, as a user calls them.
+TEST(BroadcastCommand, RunsEveryOp) {
+  const std::vector<float> x{1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};  // [2, 3, 2]
+  const io::NpyArray images = io::NpyArray::fromFloats({2, 3, 2}, x);
+  const io::NpyArray ones = io::NpyArray::fromFloats({2, 3, 2}, std::vector<float>(12, 1.0f));
+  const OpRun general = runOpCommand("broadcast", {{"a", images}, {"b", io::NpyArray::fromFloats({3, 1}, {1, 2, 3})},
+                                                   {"grad_y", ones}},
+                                     {"y", "grad_b"}, {"op=mul"});
+  ASSERT_EQ(general.exitCode, 0) << general.err;
+  EXPECT_EQ(general.outputs.at("y").floats, (std::vector<float>{1, 2, 6, 8, 15, 18, 7, 8, 18, 20, 33, 36}));
+  EXPECT_EQ(general.outputs.at("grad_b").floats, (std::vector<float>{1 + 2 + 7 + 8, 3 + 4 + 9 + 10, 5 + 6 + 11 + 12}));
+
+  const OpRun channel = runOpCommand("channel_broadcast", {{"x", images}, {"v", io::NpyArray::fromFloats({3}, {10, 20, 30})},
+                                                           {"grad_y", ones}},
+                                     {"y", "grad_v"}, {"op=add"});
+  ASSERT_EQ(channel.exitCode, 0) << channel.err;
+  EXPECT_EQ(channel.outputs.at("y").floats, (std::vector<float>{11, 12, 23, 24, 35, 36, 17, 18, 29, 30, 41, 42}));
+  EXPECT_EQ(channel.outputs.at("grad_v").floats, (std::vector<float>{4, 4, 4}));
+
+  const OpRun sample = runOpCommand("sample_broadcast", {{"x", images}, {"w", io::NpyArray::fromFloats({2, 1, 1}, {1, 2})}},
+                                    {"y"}, {"op=div"});
+  ASSERT_EQ(sample.exitCode, 0) << sample.err;
+  EXPECT_EQ(sample.outputs.at("y").floats, (std::vector<float>{1, 2, 3, 4, 5, 6, 3.5f, 4, 4.5f, 5, 5.5f, 6}));
+
+  const OpRun reshaped = runOpCommand("reshape", {{"x", images}}, {"y"}, {"shape=4,3"});
+  ASSERT_EQ(reshaped.exitCode, 0) << reshaped.err;
+  EXPECT_EQ(reshaped.outputs.at("y").shape, (Shape{4, 3}));
+  EXPECT_EQ(reshaped.outputs.at("y").floats, x);
+  EXPECT_NE(runOpCommand("broadcast", {{"a", images}, {"b", images}}, {"y"}, {"op=pow"}).exitCode, 0);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/gradcheck.h"
+#include "tests/harness/op_runner.h"
 #include "tests/harness/random.h"
 
 namespace smokesvd::testing {
@@ -101,6 +102,24 @@ TEST_F(ConcatTest, ShapeErrors) {
   EXPECT_THROW(fn::sliceChannels(tape, x, 2, 4), Error);
   EXPECT_THROW(fn::sliceChannels(tape, x, 2, 1), Error);
   EXPECT_EQ(fn::sliceChannels(tape, x, 1, 1)->value.shape(), (Shape{2, 0, 4}));
+}
+
+// The runner's concat and slice ops, forward and backward, as a user calls them.
+TEST(ConcatCommand, ConcatAndSlice) {
+  const io::NpyArray a = io::NpyArray::fromFloats({2, 1, 2}, {1, 2, 3, 4});
+  const io::NpyArray b = io::NpyArray::fromFloats({2, 2, 2}, {5, 6, 7, 8, 9, 10, 11, 12});
+  const io::NpyArray c = io::NpyArray::fromFloats({2, 1, 2}, {13, 14, 15, 16});
+  const io::NpyArray g = io::NpyArray::fromFloats({2, 4, 2}, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15});
+  const OpRun concat = runOpCommand("concat_channels", {{"a", a}, {"b", b}, {"c", c}, {"grad_y", g}}, {"y", "grad_b"});
+  ASSERT_EQ(concat.exitCode, 0) << concat.err;
+  EXPECT_EQ(concat.outputs.at("y").shape, (Shape{2, 4, 2}));
+  EXPECT_EQ(concat.outputs.at("y").floats, (std::vector<float>{1, 2, 5, 6, 7, 8, 13, 14, 3, 4, 9, 10, 11, 12, 15, 16}));
+  EXPECT_EQ(concat.outputs.at("grad_b").floats, (std::vector<float>{2, 3, 4, 5, 10, 11, 12, 13}));
+
+  const OpRun slice = runOpCommand("slice_channels", {{"x", b}, {"grad_y", a}}, {"y", "grad_x"}, {"begin=1", "end=2"});
+  ASSERT_EQ(slice.exitCode, 0) << slice.err;
+  EXPECT_EQ(slice.outputs.at("y").floats, (std::vector<float>{7, 8, 11, 12}));
+  EXPECT_EQ(slice.outputs.at("grad_x").floats, (std::vector<float>{0, 0, 1, 2, 0, 0, 3, 4}));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/gradcheck.h"
+#include "tests/harness/op_runner.h"
 #include "tests/harness/random.h"
 
 namespace smokesvd::testing {
@@ -132,6 +133,23 @@ TEST_F(LinearTest, WithoutBiasAndShapeErrors) {
   EXPECT_TRUE(x->grad.defined());
   Var wrong = variable(randomTensor(context(), {4, 5}, 3));
   EXPECT_THROW(fn::linear(tape, x, wrong, nullptr), Error);
+}
+
+// The runner's `linear` op, forward and backward, as a user calls it.
+TEST(LinearCommand, RunsForwardAndBackward) {
+  const std::vector<float> x{1, 2, 3, -1, 0, 2}, w{1, 0, 0, 0, 1, 0, 0, 0, 1, 1, 1, 1}, b{0.5f, 0, 0, -1}, g{1, 0, 0, 1, 0, 1, 2, 0};
+  const OpRun run = runOpCommand("linear",
+                                 {{"x", io::NpyArray::fromFloats({2, 3}, x)},
+                                  {"w", io::NpyArray::fromFloats({4, 3}, w)},
+                                  {"b", io::NpyArray::fromFloats({4}, b)},
+                                  {"grad_y", io::NpyArray::fromFloats({2, 4}, g)}},
+                                 {"y", "grad_x", "grad_w", "grad_b"});
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  const std::vector<double> dx = toDouble(x), dw = toDouble(w), dg = toDouble(g);
+  EXPECT_TRUE(allClose(run.outputs.at("y").floats, linearReference(dx, dw, toDouble(b), 2, 3, 4), {2, 4}));
+  EXPECT_TRUE(allClose(run.outputs.at("grad_x").floats, matmulReference(dg, false, dw, false, 2, 3, 4), {2, 3}));
+  EXPECT_TRUE(allClose(run.outputs.at("grad_w").floats, matmulReference(dg, true, dx, false, 4, 3, 2), {4, 3}));
+  EXPECT_TRUE(allClose(run.outputs.at("grad_b").floats, std::vector<double>{1, 1, 2, 1}, {4}));
 }
 
 }  // namespace

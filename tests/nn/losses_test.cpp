@@ -8,6 +8,7 @@
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/gradcheck.h"
+#include "tests/harness/op_runner.h"
 #include "tests/harness/random.h"
 
 namespace smokesvd::testing {
@@ -173,6 +174,40 @@ TEST_F(LossesTest, L1SubgradientIsZeroWhereInputsAgree) {
   stream.submit();
   EXPECT_TRUE(allClose(a->grad, std::vector<double>{0.0, -1.0 / 3, 0.0}, {1e-7, 0}));
   EXPECT_TRUE(allClose(b->grad, std::vector<double>{0.0, 1.0 / 3, 0.0}, {1e-7, 0}));
+}
+
+// Every loss through the runner, forward and backward, against the references above.
+TEST(LossesCommand, RunsEveryLoss) {
+  const Shape shape{2, 1, 3, 4};
+  Images values;
+  std::map<std::string, io::NpyArray> files;
+  for (const std::string name : {"a", "b", "reference"}) {
+    const std::vector<float> host = randomValues(24, values.size() + 1, 0, 1);
+    values.push_back(toDouble(host));
+    files[name] = io::NpyArray::fromFloats(shape, host);
+  }
+  files["grad_loss"] = io::NpyArray::fromFloats({1}, {1});
+  const std::map<std::string, double> expected{{"mse_loss", mse(values[0], values[1])},
+                                               {"l1_loss", l1(values[0], values[1])},
+                                               {"row_sum_loss", rowSum(values[0], values[1], 4)},
+                                               {"psnr", psnr(values[0], values[1], 2, 1.0)},
+                                               {"psnr_gap_loss", psnrGap(values[0], values[1], values[2], 2, 1.0)},
+                                               {"mean_residual_squared", meanSquared(values[0])}};
+  for (const auto& [op, value] : expected) {
+    std::map<std::string, io::NpyArray> inputs{{"grad_loss", files["grad_loss"]}};
+    if (op == "mean_residual_squared") {
+      inputs["x"] = files["a"];
+    } else {
+      inputs["a"] = files["a"];
+      inputs["b"] = files["b"];
+      if (op == "psnr_gap_loss") inputs["reference"] = files["reference"];
+    }
+    const std::string gradient = op == "mean_residual_squared" ? "grad_x" : "grad_a";
+    const OpRun run = runOpCommand(op, inputs, {"loss", gradient});
+    ASSERT_EQ(run.exitCode, 0) << op << ": " << run.err;
+    EXPECT_TRUE(allClose(run.outputs.at("loss").floats, std::vector<double>{value}, {1}, {1e-5, 1e-5})) << op;
+    EXPECT_EQ(run.outputs.at(gradient).shape, shape) << op;
+  }
 }
 
 }  // namespace

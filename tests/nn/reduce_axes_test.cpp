@@ -8,6 +8,7 @@
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/gradcheck.h"
+#include "tests/harness/op_runner.h"
 #include "tests/harness/random.h"
 
 namespace smokesvd::testing {
@@ -120,6 +121,21 @@ TEST_F(ReduceAxesTest, SumAndMeanGradientsMatchFiniteDifferences) {
       }
     }
   }
+}
+
+// The runner's sum and mean ops, forward and backward, as a user calls them.
+TEST(ReduceAxesCommand, SumAndMean) {
+  const io::NpyArray x = io::NpyArray::fromFloats({2, 3}, {1, 2, 3, 4, 5, 6});
+  const OpRun sum = runOpCommand("sum", {{"x", x}, {"grad_y", io::NpyArray::fromFloats({1, 3}, {1, 2, 3})}},
+                                 {"y", "grad_x"}, {"axes=0", "keepdims=1"});
+  ASSERT_EQ(sum.exitCode, 0) << sum.err;
+  EXPECT_EQ(sum.outputs.at("y").shape, (Shape{1, 3}));
+  EXPECT_EQ(sum.outputs.at("y").floats, (std::vector<float>{5, 7, 9}));
+  EXPECT_EQ(sum.outputs.at("grad_x").floats, (std::vector<float>{1, 2, 3, 1, 2, 3}));
+  const OpRun mean = runOpCommand("mean", {{"x", x}}, {"y"});
+  ASSERT_EQ(mean.exitCode, 0) << mean.err;
+  EXPECT_EQ(mean.outputs.at("y").shape, (Shape{}));
+  EXPECT_EQ(mean.outputs.at("y").floats, (std::vector<float>{3.5f}));
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "runtime/error.h"
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
+#include "tests/harness/op_runner.h"
 #include "tests/harness/random.h"
 
 namespace smokesvd::testing {
@@ -56,6 +57,21 @@ TEST_F(TimestepEmbeddingTest, RejectsTooSmallDim) {
   EXPECT_THROW(fn::timestepEmbedding(tape, t, 2), Error);  // half - shift = 0 (DDPM convention)
   EXPECT_THROW(fn::timestepEmbedding(tape, t, 0), Error);
   EXPECT_NO_THROW(fn::timestepEmbedding(tape, t, 2, {10000.0f, 0.0f, false}));
+}
+
+// The runner's timestep embedding on integer timesteps; asking for a gradient is an error.
+TEST(TimestepEmbeddingCommand, EmbedsIntegerTimesteps) {
+  const io::NpyArray t = io::NpyArray::fromInts({2}, {0, 3});
+  const OpRun run = runOpCommand("timestep_embedding", {{"t", t}}, {"y"}, {"dim=4", "shift=0", "cos_first=1"});
+  ASSERT_EQ(run.exitCode, 0) << run.err;
+  // half = 2, f = (1, 1/100): y[n] = [cos(t), cos(t/100), sin(t), sin(t/100)]
+  EXPECT_TRUE(allClose(run.outputs.at("y").floats,
+                       std::vector<double>{1, 1, 0, 0, std::cos(3.0), std::cos(0.03), std::sin(3.0), std::sin(0.03)},
+                       {2, 4}, {1e-6, 0}));
+  const OpRun gradient = runOpCommand("timestep_embedding",
+                                      {{"t", t}, {"grad_y", io::NpyArray::fromFloats({2, 4}, std::vector<float>(8, 1))}},
+                                      {"y"}, {"dim=4"});
+  EXPECT_NE(gradient.exitCode, 0);
 }
 
 }  // namespace
