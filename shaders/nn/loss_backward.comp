@@ -22,9 +22,14 @@ void main() {
   if (4u * item >= n) return;
   vec4 value = vec4(scale * texelFetch(upstream, 0).x);
   if (HAS_COEF) {
+    // Segment of item 4i + l: one division, then at most one step per item when segments hold >= 4.
     const uint first = 4u * item;
-    value *= vec4(texelFetch(coefficients, int(first / segment)).x, texelFetch(coefficients, int((first + 1u) / segment)).x,
-                  texelFetch(coefficients, int((first + 2u) / segment)).x, texelFetch(coefficients, int((first + 3u) / segment)).x);
+    const uint q = first / segment;
+    const uint r = first - q * segment;
+    for (uint l = 0u; l < 4u; ++l) {
+      const uint s = segment >= 4u ? q + uint(r + l >= segment) : (first + l) / segment;
+      value[l] *= texelFetch(coefficients, int(s)).x;
+    }
   }
   if (FORM == 0) value *= texelFetch(a4, int(item)) - texelFetch(b4, int(item));
   if (FORM == 1) value *= sign(texelFetch(a4, int(item)) - texelFetch(b4, int(item)));
