@@ -77,6 +77,26 @@ TEST_F(BroadcastTest, EveryOpAndPatternMatchesReference) {
   }
 }
 
+// The shaders' division by multiply-high (shaders/nn/broadcast_index.glsl), replayed on the CPU.
+TEST(FastDivisor, DividesExactlyBelow2To31) {
+  const auto divide = [](uint32_t n, ops::FastDivisor d) {
+    const uint32_t high = static_cast<uint32_t>((uint64_t{n} * d.multiplier) >> 32);
+    return (d.multiplier == 0 ? n : high) >> d.shift;
+  };
+  const std::vector<float> random = randomValues(2000, 9, 0.0f, 1.0f);
+  for (uint32_t d : {1u, 2u, 3u, 5u, 7u, 63u, 64u, 112u, 4095u, 4096u, 65537u, 1000003u, 0x7fffffffu}) {
+    for (float r : random) {
+      const uint32_t n = static_cast<uint32_t>(static_cast<double>(r) * 2147483647.0);
+      ASSERT_EQ(divide(n, ops::fastDivisor(d)), n / d) << n << " / " << d;
+    }
+    for (uint64_t n : {uint64_t{0}, uint64_t{d} - 1, uint64_t{d}, 2 * uint64_t{d} - 1, uint64_t{0x7fffffff}}) {
+      if (n > 0x7fffffff) continue;
+      const auto small = static_cast<uint32_t>(n);
+      ASSERT_EQ(divide(small, ops::fastDivisor(d)), small / d) << n << " / " << d;
+    }
+  }
+}
+
 TEST_F(BroadcastTest, ExpandRepeatsAlongAxes) {
   std::vector<float> x;
   Tensor tx = randomTensor(context(), {3, 1, 5}, 1, -1, 1, &x);
