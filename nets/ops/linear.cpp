@@ -8,9 +8,9 @@
 namespace smokesvd::ops {
 namespace {
 
-constexpr uint32_t kTileRows = 4;     // rows of C per invocation (shaders/nn/matmul.comp)
-constexpr uint32_t kTileColumns = 8;  // columns of C per invocation
-// 8 x 8 invocations: 8 SIMD lanes along columns, sharing rows; a workgroup covers 32 rows x 64 columns.
+constexpr uint32_t kTileRows = 8;     // rows of C per invocation (shaders/nn/matmul.comp)
+constexpr uint32_t kTileColumns = 4;  // columns of C per invocation
+// 8 x 8 invocations: 8 SIMD lanes along columns, sharing rows; a workgroup covers 64 rows x 32 columns.
 constexpr std::array<uint32_t, 3> kWorkgroup{8, 8, 1};
 
 uint32_t tiles(int64_t extent, uint32_t tile) { return static_cast<uint32_t>((extent + tile - 1) / tile); }
