@@ -10,7 +10,7 @@ namespace smokesvd::ops {
 namespace {
 
 constexpr uint32_t kWorkgroupSize = 128;
-constexpr int kCopy = 4;                     // shaders/nn/broadcast_binary.comp: y = a
+constexpr int kCopy = 4;  // OP of shaders/nn/broadcast_binary.comp: y = a
 
 Shape alignedTo(const Shape& shape, std::size_t rank) {
   Shape result(rank - shape.size(), 1);

@@ -1,7 +1,6 @@
 #include "nets/ops/concat.h"
 
 #include "nets/ops/broadcast.h"
-
 #include "runtime/error.h"
 
 namespace smokesvd::ops {
