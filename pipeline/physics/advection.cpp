@@ -9,7 +9,8 @@
 namespace smokesvd::physics {
 namespace {
 
-constexpr std::array<uint32_t, 3> kWorkgroup{64, 1, 1};
+// One invocation per cell on a 3D grid; 16 cells along x fill two 8-lane SIMD rows on lavapipe.
+constexpr std::array<uint32_t, 3> kWorkgroup{16, 4, 1};
 
 // The push block of every advection kernel (AdvectPush in shaders/physics/advect_sampling.glsl).
 struct AdvectPush {
@@ -32,7 +33,10 @@ struct Planes {
     return {static_cast<int32_t>(grid.x), static_cast<int32_t>(grid.y), static_cast<int32_t>(grid.z),
             mac ? plane + 1 : 0, plane, dt, strength, 0.0f, 0};
   }
-  uint64_t cells() const { return static_cast<uint64_t>(grid.cells()); }
+  std::array<uint32_t, 3> groups() const {
+    return {static_cast<uint32_t>((grid.x + kWorkgroup[0] - 1) / kWorkgroup[0]),
+            static_cast<uint32_t>((grid.y + kWorkgroup[1] - 1) / kWorkgroup[1]), static_cast<uint32_t>(grid.z)};
+  }
 };
 
 Planes planesOf(const Tensor& flags, const Tensor& field, const Tensor& velocity, const char* op) {
@@ -60,8 +64,8 @@ void semiLagrangianPass(Stream& stream, const Planes& planes, const Tensor& fiel
                         const Tensor* inflow, float dt, const Tensor& out) {
   const Kernel& kernel = stream.kernel("physics/advect_sl", kWorkgroup, {inflow ? 1 : 0});
   for (int plane = 0; plane < planes.count; ++plane)
-    stream.dispatchFlat(kernel, {field, velocity, inflow ? *inflow : field, out}, planes.push(plane, dt),
-                        planes.cells());
+    stream.dispatch(kernel, {field, velocity, inflow ? *inflow : field, out}, planes.push(plane, dt),
+                        planes.groups());
 }
 
 // Departure points (vec4 per cell and plane) and the reach of each plane, for the gather adjoints.
@@ -77,7 +81,7 @@ Trace trace(Stream& stream, const Planes& planes, const Tensor& velocity, float 
   stream.fillZero(result.reach);
   const Kernel& kernel = stream.kernel("physics/advect_trace", kWorkgroup);
   for (int plane = 0; plane < planes.count; ++plane)
-    stream.dispatchFlat(kernel, {velocity, result.departure, result.reach}, planes.push(plane, dt), planes.cells());
+    stream.dispatch(kernel, {velocity, result.departure, result.reach}, planes.push(plane, dt), planes.groups());
   return result;
 }
 
@@ -90,10 +94,10 @@ void semiLagrangianAdjoint(Stream& stream, const Planes& planes, const Trace& tr
     AdvectPush push = planes.push(plane, dt);
     push.directScale = direct ? directScale : 0.0f;
     push.hasPrior = prior ? 1 : 0;
-    stream.dispatchFlat(kernel,
+    stream.dispatch(kernel,
                         {upstream, field, asVec4(traced.departure), traced.reach, direct ? *direct : upstream,
                          prior ? *prior : upstream, gradField, traceGrad},
-                        push, planes.cells());
+                        push, planes.groups());
   }
 }
 
@@ -119,8 +123,8 @@ void advect(Stream& stream, const Tensor& flags, const Tensor& field, const Tens
   semiLagrangianPass(stream, planes, field, velocity, nullptr, params.dt, forward);
   const Kernel& kernel = stream.kernel("physics/advect_mc", kWorkgroup, {inflow ? 1 : 0});
   for (int plane = 0; plane < planes.count; ++plane)
-    stream.dispatchFlat(kernel, {flags, field, forward, velocity, inflow ? *inflow : field, out},
-                        planes.push(plane, params.dt, params.strength), planes.cells());
+    stream.dispatch(kernel, {flags, field, forward, velocity, inflow ? *inflow : field, out},
+                        planes.push(plane, params.dt, params.strength), planes.groups());
 }
 
 void advectBackward(Stream& stream, const Tensor& flags, const Tensor& field, const Tensor& velocity,
@@ -149,8 +153,8 @@ void advectBackward(Stream& stream, const Tensor& flags, const Tensor& field, co
     const Tensor gradBwd(context, field.shape());
     const Kernel& mask = stream.kernel("physics/advect_mc_adjoint", kWorkgroup);
     for (int plane = 0; plane < planes.count; ++plane)
-      stream.dispatchFlat(mask, {flags, field, forward, velocity, gradOut, gradBwd},
-                          planes.push(plane, params.dt, params.strength), planes.cells());
+      stream.dispatch(mask, {flags, field, forward, velocity, gradOut, gradBwd},
+                          planes.push(plane, params.dt, params.strength), planes.groups());
 
     // ∂L/∂fwd = g + S_−vᵀ gradBwd, then ∂L/∂field = S_vᵀ ∂L/∂fwd − gradBwd.
     const Tensor gradForward(context, field.shape());
@@ -163,7 +167,7 @@ void advectBackward(Stream& stream, const Tensor& flags, const Tensor& field, co
 
   if (gradients.velocity) {
     const Kernel& kernel = stream.kernel("physics/advect_velocity_adjoint", kWorkgroup, {planes.mac ? 1 : 0});
-    stream.dispatchFlat(kernel, {traceGrad, *gradients.velocity}, planes.push(0, params.dt), planes.cells());
+    stream.dispatch(kernel, {traceGrad, *gradients.velocity}, planes.push(0, params.dt), planes.groups());
   }
 }
 

@@ -5,7 +5,6 @@
 //   out(c) = mc(c) if the correction is kept, else fwd(c)   at interior cells c [+ inflow(c)],
 //   out(c) = 0 [+ inflow(c)]                                on the outer layer,
 // with mc and the clamp as in advect_maccormack.glsl. HAS_INFLOW (constant_id 3) adds the inflow.
-#include "index.glsl"
 #include "advect_sampling.glsl"
 #include "advect_maccormack.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -19,9 +18,9 @@ layout(binding = 4) uniform samplerBuffer inflow;
 layout(std430, binding = 5) writeonly buffer Output { float result[]; };
 
 void main() {
-  const int item = int(flat_index());
-  if (item >= cellCount()) return;
-  const ivec3 c = cellOf(item);
+  const ivec3 c = invocationCell();
+  if (!inGrid(c)) return;
+  const int item = cellIndex(c);
   const int at = plane * cellCount() + item;
   float value = 0.0;
   if (isInterior(c)) {

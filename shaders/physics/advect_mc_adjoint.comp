@@ -6,7 +6,6 @@
 // fixed (its switch points are measure zero). Given g = ∂L/∂out this writes
 //   gradBwd(c) = −strength·½·K(c)·g(c)
 // from which the host continues: ∂L/∂fwd = g + S_−vᵀ gradBwd, ∂L/∂field = S_vᵀ ∂L/∂fwd − gradBwd.
-#include "index.glsl"
 #include "advect_sampling.glsl"
 #include "advect_maccormack.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -19,9 +18,9 @@ layout(binding = 4) uniform samplerBuffer upstream;
 layout(std430, binding = 5) writeonly buffer GradBwd { float gradBwd[]; };
 
 void main() {
-  const int item = int(flat_index());
-  if (item >= cellCount()) return;
-  const ivec3 c = cellOf(item);
+  const ivec3 c = invocationCell();
+  if (!inGrid(c)) return;
+  const int item = cellIndex(c);
   const int at = plane * cellCount() + item;
   bool kept = false;
   if (isInterior(c)) macCormack(flags, field, firstOrder, c, traceVelocity(velocity, c), kept);

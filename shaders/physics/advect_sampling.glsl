@@ -27,7 +27,9 @@ layout(push_constant) uniform AdvectPush {
 
 int cellCount() { return n.x * n.y * n.z; }
 int cellIndex(ivec3 c) { return (c.z * n.y + c.y) * n.x + c.x; }
-ivec3 cellOf(int index) { return ivec3(index % n.x, (index / n.x) % n.y, index / (n.x * n.y)); }
+// Kernels run on a 3D grid of invocations, one per cell (x fastest along the SIMD lanes).
+ivec3 invocationCell() { return ivec3(gl_GlobalInvocationID); }
+bool inGrid(ivec3 c) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan(c, n)); }
 bool isInterior(ivec3 c) { return all(greaterThan(c, ivec3(0))) && all(lessThan(c, n - 1)); }
 ivec3 axisStride() { return ivec3(1, n.x, n.x * n.y); }
 

@@ -7,7 +7,6 @@
 //     are the window x_d ∈ [y_d − 1 − reachHigh_d, y_d + reachLow_d] given by the plane's reach;
 //   traceGrad(d, y) = [hasPrior] prior(d, y) − dt·g(y)·∂trilinear(field, p(y))/∂p_d   (0 on the outer layer)
 // traceGrad is ∂L/∂v for the trace velocity of each cell, laid out [plane, 3, cells].
-#include "index.glsl"
 #include "advect_sampling.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 
@@ -23,10 +22,10 @@ layout(std430, binding = 6) writeonly buffer GradField { float gradField[]; };
 layout(std430, binding = 7) writeonly buffer TraceGrad { float traceGrad[]; };
 
 void main() {
-  const int item = int(flat_index());
+  const ivec3 y = invocationCell();
+  if (!inGrid(y)) return;
   const int cells = cellCount();
-  if (item >= cells) return;
-  const ivec3 y = cellOf(item);
+  const int item = cellIndex(y);
   const int planeOffset = plane * cells;
   const int at = planeOffset + item;
 

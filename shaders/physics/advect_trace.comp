@@ -7,7 +7,6 @@
 //   reach[8·plane + 4 + d] = REACH_BIAS + max over interior c of −o_d(c),
 // reduced per workgroup in shared memory, then atomicMax into a zero-filled buffer (the bias keeps
 // every stored value positive, so zero is the identity). Index names as in advect_sampling.glsl.
-#include "index.glsl"
 #include "advect_sampling.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 
@@ -17,16 +16,16 @@ layout(binding = 0) uniform samplerBuffer velocity;
 layout(std430, binding = 1) writeonly buffer Departure { vec4 departure[]; };
 layout(std430, binding = 2) buffer Reach { int reach[]; };
 
-shared ivec3 highest[gl_WorkGroupSize.x];
-shared ivec3 lowest[gl_WorkGroupSize.x];
+const uint GROUP_SIZE = gl_WorkGroupSize.x * gl_WorkGroupSize.y * gl_WorkGroupSize.z;  // a power of two
+shared ivec3 highest[GROUP_SIZE];
+shared ivec3 lowest[GROUP_SIZE];
 
 void main() {
-  const int item = int(flat_index());
-  const uint local = gl_LocalInvocationID.x;
+  const ivec3 c = invocationCell();
+  const uint local = gl_LocalInvocationIndex;
   ivec3 high = ivec3(-REACH_BIAS);
   ivec3 low = ivec3(-REACH_BIAS);
-  if (item < cellCount()) {
-    const ivec3 c = cellOf(item);
+  if (inGrid(c)) {
     vec4 point = vec4(0.0);
     if (isInterior(c)) {
       point = vec4(departurePoint(c, traceVelocity(velocity, c), dt), 1.0);
@@ -34,12 +33,12 @@ void main() {
       high = offset;
       low = -offset;
     }
-    departure[plane * cellCount() + item] = point;
+    departure[plane * cellCount() + cellIndex(c)] = point;
   }
   highest[local] = high;
   lowest[local] = low;
   barrier();
-  for (uint half_ = gl_WorkGroupSize.x / 2u; half_ > 0u; half_ /= 2u) {
+  for (uint half_ = GROUP_SIZE / 2u; half_ > 0u; half_ /= 2u) {
     if (local < half_) {
       highest[local] = max(highest[local], highest[local + half_]);
       lowest[local] = max(lowest[local], lowest[local + half_]);
