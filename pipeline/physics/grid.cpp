@@ -1,6 +1,8 @@
 #include "pipeline/physics/grid.h"
 
+#include <array>
 #include <string>
+#include <utility>
 
 #include "runtime/error.h"
 
@@ -50,6 +52,16 @@ void requireVector(const Tensor& tensor, const GridSize& grid, const char* what)
   if (vectorGrid(tensor, what) != grid)
     throw Error(std::string(what) + ": expected a vector field " + toString(grid.vector()) + ", got " +
                 toString(tensor.shape()));
+}
+
+FlagGrid::FlagGrid(Stream& stream, Tensor flags)
+    : size_(volumeGrid(flags, "flag grid")), flags_(std::move(flags)), masks_(stream.context(), size_.volume()) {
+  struct { int32_t nx, ny, nz; } push{static_cast<int32_t>(size_.x), static_cast<int32_t>(size_.y),
+                                      static_cast<int32_t>(size_.z)};
+  const std::array<uint32_t, 3> workgroup{16, 4, 1};
+  stream.dispatch(stream.kernel("physics/advect_masks", workgroup), {flags_, masks_}, push,
+                  {static_cast<uint32_t>((size_.x + 15) / 16), static_cast<uint32_t>((size_.y + 3) / 4),
+                   static_cast<uint32_t>(size_.z)});
 }
 
 std::vector<float> closedBoxFlags(const GridSize& grid, int wallWidth) {

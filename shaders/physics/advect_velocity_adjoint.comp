@@ -8,7 +8,7 @@
 // (transposes of the averages in advect_sampling.glsl; terms outside the grid are 0).
 #include "advect_sampling.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
-layout(constant_id = 3) const int MAC = 0;
+layout(constant_id = 4) const int MAC = 0;
 
 layout(binding = 0) uniform samplerBuffer traceGrad;
 layout(std430, binding = 1) writeonly buffer GradVelocity { float gradVelocity[]; };

@@ -62,11 +62,11 @@ class AdvectMassTest : public GpuTest {
  protected:
   double massRatio(const std::vector<float>& velocity, float dt) {
     const std::vector<float> density = blob();
-    Tensor flags = physics::closedBoxFlagsTensor(context(), kGrid);
+    Stream stream(context());
+    const physics::FlagGrid flags(stream, physics::closedBoxFlagsTensor(context(), kGrid));
     Tensor field = Tensor::fromHost(context(), kGrid.volume(), density);
     Tensor mac = Tensor::fromHost(context(), kGrid.vector(), velocity);
     Tensor out(context(), kGrid.volume());
-    Stream stream(context());
     physics::advect(stream, flags, field, mac, nullptr,
                     {.scheme = physics::AdvectionScheme::SemiLagrangian, .dt = dt}, out);
     stream.submit();

@@ -61,20 +61,17 @@ AdvectionCase<double> widened(const AdvectionCase<float>& input) {
   return result;
 }
 
+// The case on the GPU, with the flag grid's masks recorded into `stream`.
 struct GpuCase {
-  Tensor flags, field, velocity, inflow;
+  GpuCase(Stream& stream, const AdvectionCase<float>& input)
+      : flags(stream, Tensor::fromHost(stream.context(), {input.grid.z, input.grid.y, input.grid.x}, input.flags)),
+        field(Tensor::fromHost(stream.context(), input.mac ? flags.size().vector() : flags.size().volume(), input.field)),
+        velocity(Tensor::fromHost(stream.context(), flags.size().vector(), input.velocity)) {
+    if (!input.inflow.empty()) inflow = Tensor::fromHost(stream.context(), field.shape(), input.inflow);
+  }
+  physics::FlagGrid flags;
+  Tensor field, velocity, inflow;
 };
-
-GpuCase upload(Context& context, const AdvectionCase<float>& input) {
-  const ReferenceGrid& g = input.grid;
-  const Shape volume{g.z, g.y, g.x};
-  const Shape vector{3, g.z, g.y, g.x};
-  GpuCase gpu{Tensor::fromHost(context, volume, input.flags),
-              Tensor::fromHost(context, input.mac ? vector : volume, input.field),
-              Tensor::fromHost(context, vector, input.velocity), Tensor()};
-  if (!input.inflow.empty()) gpu.inflow = Tensor::fromHost(context, gpu.field.shape(), input.inflow);
-  return gpu;
-}
 
 class AdvectTest : public GpuTest, public ::testing::WithParamInterface<Variant> {
  protected:
@@ -82,9 +79,9 @@ class AdvectTest : public GpuTest, public ::testing::WithParamInterface<Variant>
 
   void checkForward(const ReferenceGrid& grid, bool withInflow, uint64_t seed, float speed, float dt) {
     const AdvectionCase<float> input = randomCase(grid, GetParam().mac, withInflow, seed, speed);
-    const GpuCase gpu = upload(context(), input);
-    Tensor out = poisonedTensor(context(), gpu.field.shape());
     Stream stream(context());
+    const GpuCase gpu(stream, input);
+    Tensor out = poisonedTensor(context(), gpu.field.shape());
     physics::advect(stream, gpu.flags, gpu.field, gpu.velocity, withInflow ? &gpu.inflow : nullptr, params(dt), out);
     stream.submit();
     AdvectionDiagnostics diagnostics;
@@ -105,9 +102,9 @@ TEST_P(AdvectTest, MacSelfAdvectionMatchesReference) {
   if (!GetParam().mac) GTEST_SKIP() << "self-advection is a MAC-field case";
   AdvectionCase<float> input = randomCase({7, 6, 9}, true, false, 31, 1.3f);
   input.field = input.velocity;
-  const GpuCase gpu = upload(context(), input);
-  Tensor out = poisonedTensor(context(), gpu.velocity.shape());
   Stream stream(context());
+  const GpuCase gpu(stream, input);
+  Tensor out = poisonedTensor(context(), gpu.velocity.shape());
   physics::advect(stream, gpu.flags, gpu.velocity, gpu.velocity, nullptr, params(), out);
   stream.submit();
   EXPECT_TRUE(allClose(out, referenceAdvect(input, params()), {1e-5, 1e-5}));
@@ -126,16 +123,16 @@ TEST_P(AdvectTest, BackwardMatchesFiniteDifferences) {
     EXPECT_GT(diagnostics.reverted, 0);
   }
 
-  const GpuCase gpu = upload(context(), input);
+  Stream stream(context());
+  const GpuCase gpu(stream, input);
   std::vector<float> upstream;
   Tensor gradOut = randomTensor(context(), gpu.field.shape(), 42, -1.0f, 1.0f, &upstream);
-  Tensor firstOrder(context(), gpu.field.shape());
+  physics::AdvectionCache cache;
   Tensor out(context(), gpu.field.shape());
   Tensor gradField = poisonedTensor(context(), gpu.field.shape());
   Tensor gradVelocity = poisonedTensor(context(), gpu.velocity.shape());
-  Stream stream(context());
-  physics::advect(stream, gpu.flags, gpu.field, gpu.velocity, nullptr, p, out, &firstOrder);
-  physics::advectBackward(stream, gpu.flags, gpu.field, gpu.velocity, p, gradOut, &firstOrder,
+  physics::advect(stream, gpu.flags, gpu.field, gpu.velocity, nullptr, p, out, &cache);
+  physics::advectBackward(stream, gpu.flags, gpu.field, gpu.velocity, p, gradOut, &cache,
                           {.field = &gradField, .velocity = &gradVelocity});
   stream.submit();
 
@@ -158,18 +155,18 @@ TEST_P(AdvectTest, BackwardMatchesFiniteDifferences) {
   EXPECT_TRUE(allClose(gradVelocity, expectedVelocity, {2e-5, 1e-4}));
 }
 
-// Without a saved first-order pass the backward recomputes it and gives the same gradients.
-TEST_P(AdvectTest, BackwardRecomputesFirstOrderPass) {
+// Without the forward's cache the backward recomputes it and gives the same gradients.
+TEST_P(AdvectTest, BackwardWithoutCacheRecomputesIt) {
   const AdvectionCase<float> input = randomCase({5, 7, 5}, GetParam().mac, false, 51, 1.2f);
-  const GpuCase gpu = upload(context(), input);
+  Stream stream(context());
+  const GpuCase gpu(stream, input);
   Tensor gradOut = randomTensor(context(), gpu.field.shape(), 52);
-  Tensor firstOrder(context(), gpu.field.shape());
+  physics::AdvectionCache cache;
   Tensor out(context(), gpu.field.shape());
   Tensor saved(context(), gpu.velocity.shape());
   Tensor recomputed = poisonedTensor(context(), gpu.velocity.shape());
-  Stream stream(context());
-  physics::advect(stream, gpu.flags, gpu.field, gpu.velocity, nullptr, params(), out, &firstOrder);
-  physics::advectBackward(stream, gpu.flags, gpu.field, gpu.velocity, params(), gradOut, &firstOrder,
+  physics::advect(stream, gpu.flags, gpu.field, gpu.velocity, nullptr, params(), out, &cache);
+  physics::advectBackward(stream, gpu.flags, gpu.field, gpu.velocity, params(), gradOut, &cache,
                           {.velocity = &saved});
   physics::advectBackward(stream, gpu.flags, gpu.field, gpu.velocity, params(), gradOut, nullptr,
                           {.velocity = &recomputed});
@@ -186,16 +183,13 @@ INSTANTIATE_TEST_SUITE_P(Schemes, AdvectTest,
 
 TEST_F(GpuTest, AdvectRejectsMismatchedShapes) {
   const physics::GridSize grid{5, 6, 7};
-  Tensor flags = physics::closedBoxFlagsTensor(context(), grid);
+  Stream stream(context());
+  const physics::FlagGrid flags(stream, physics::closedBoxFlagsTensor(context(), grid));
   Tensor field(context(), grid.volume());
   Tensor velocity(context(), {3, 7, 6, 4});
   Tensor out(context(), grid.volume());
-  Stream stream(context());
   EXPECT_THROW(physics::advect(stream, flags, field, velocity, nullptr, {}, out), Error);
-  Tensor thin(context(), {7, 6, 2});
-  EXPECT_THROW(physics::advect(stream, physics::closedBoxFlagsTensor(context(), {2, 6, 7}), thin, thin, nullptr, {},
-                               thin),
-               Error);
+  EXPECT_THROW(physics::FlagGrid(stream, physics::closedBoxFlagsTensor(context(), {2, 6, 7})), Error);
 }
 
 }  // namespace

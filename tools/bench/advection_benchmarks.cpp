@@ -18,7 +18,8 @@ using physics::GridSize;
 
 struct Scene {
   GridSize grid;
-  Tensor flags, density, velocity;
+  physics::FlagGrid flags;
+  Tensor density, velocity;
 };
 
 Scene makeScene(Context& context, const GridSize& grid) {
@@ -39,8 +40,11 @@ Scene makeScene(Context& context, const GridSize& grid) {
         velocity[static_cast<std::size_t>(cells) + at] = static_cast<float>(0.3 + 1.2 * std::exp(-(x * x + z * z) / 200.0));
         velocity[static_cast<std::size_t>(2 * cells) + at] = static_cast<float>(0.04 * x);
       }
-  return {grid, physics::closedBoxFlagsTensor(context, grid), Tensor::fromHost(context, grid.volume(), density),
-          Tensor::fromHost(context, grid.vector(), velocity)};
+  Stream stream(context);
+  Scene scene{grid, physics::FlagGrid(stream, physics::closedBoxFlagsTensor(context, grid)),
+              Tensor::fromHost(context, grid.volume(), density), Tensor::fromHost(context, grid.vector(), velocity)};
+  stream.submit();
+  return scene;
 }
 
 std::string shapeOf(const GridSize& grid, const char* what) {
@@ -73,7 +77,7 @@ const char* schemeName(AdvectionScheme scheme) { return scheme == AdvectionSchem
 void scalar64(BenchContext& b) {
   const Scene scene = makeScene(b.context(), {64, 64, 64});
   Tensor out(b.context(), scene.grid.volume());
-  Tensor firstOrder(b.context(), scene.grid.volume());
+  physics::AdvectionCache cache;
   Tensor gradOut(b.context(), scene.grid.volume());
   Tensor gradDensity(b.context(), scene.grid.volume());
   Tensor gradVelocity(b.context(), scene.grid.vector());
@@ -84,11 +88,11 @@ void scalar64(BenchContext& b) {
     const physics::AdvectionParams params{.scheme = scheme};
     const std::string name = std::string("advect/") + schemeName(scheme) + "-scalar";
     b.measure(name, shapeOf(scene.grid, "density"), forwardBytes(scene.grid, 1, scheme), 0, [&](Stream& s) {
-      physics::advect(s, scene.flags, scene.density, scene.velocity, nullptr, params, out, &firstOrder);
+      physics::advect(s, scene.flags, scene.density, scene.velocity, nullptr, params, out, &cache);
     });
     b.measure(name + "-adjoint", shapeOf(scene.grid, "density"), adjointBytes(scene.grid, 1, scheme), 0,
               [&](Stream& s) {
-                physics::advectBackward(s, scene.flags, scene.density, scene.velocity, params, gradOut, &firstOrder,
+                physics::advectBackward(s, scene.flags, scene.density, scene.velocity, params, gradOut, &cache,
                                         {.field = &gradDensity, .velocity = &gradVelocity});
               });
   }
@@ -97,8 +101,8 @@ void scalar64(BenchContext& b) {
 void paperStep(BenchContext& b) {
   const Scene scene = makeScene(b.context(), {64, 112, 64});
   const GridSize& grid = scene.grid;
-  Tensor density(b.context(), grid.volume()), densityFirst(b.context(), grid.volume());
-  Tensor velocity(b.context(), grid.vector()), velocityFirst(b.context(), grid.vector());
+  Tensor density(b.context(), grid.volume()), velocity(b.context(), grid.vector());
+  physics::AdvectionCache densityCache, velocityCache;
   Tensor gradDensity(b.context(), grid.volume()), gradVelocity(b.context(), grid.vector());
   Tensor gradFromDensity(b.context(), grid.vector()), gradFromField(b.context(), grid.vector());
   Tensor gradFromVelocity(b.context(), grid.vector());
@@ -107,14 +111,14 @@ void paperStep(BenchContext& b) {
     const std::string name = std::string("advect/") + schemeName(scheme) + "-density+velocity";
     const double forward = forwardBytes(grid, 1, scheme) + forwardBytes(grid, 3, scheme);
     b.measure(name, shapeOf(grid, "density + MAC"), forward, 0, [&](Stream& s) {
-      physics::advect(s, scene.flags, scene.density, scene.velocity, nullptr, params, density, &densityFirst);
-      physics::advect(s, scene.flags, scene.velocity, scene.velocity, nullptr, params, velocity, &velocityFirst);
+      physics::advect(s, scene.flags, scene.density, scene.velocity, nullptr, params, density, &densityCache);
+      physics::advect(s, scene.flags, scene.velocity, scene.velocity, nullptr, params, velocity, &velocityCache);
     });
     const double adjoint = adjointBytes(grid, 1, scheme) + adjointBytes(grid, 3, scheme);
     b.measure(name + "-adjoint", shapeOf(grid, "density + MAC"), adjoint, 0, [&](Stream& s) {
-      physics::advectBackward(s, scene.flags, scene.density, scene.velocity, params, scene.density, &densityFirst,
+      physics::advectBackward(s, scene.flags, scene.density, scene.velocity, params, scene.density, &densityCache,
                               {.field = &gradDensity, .velocity = &gradFromDensity});
-      physics::advectBackward(s, scene.flags, scene.velocity, scene.velocity, params, scene.velocity, &velocityFirst,
+      physics::advectBackward(s, scene.flags, scene.velocity, scene.velocity, params, scene.velocity, &velocityCache,
                               {.field = &gradFromField, .velocity = &gradFromVelocity});
     });
   }
