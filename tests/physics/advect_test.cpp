@@ -3,6 +3,7 @@
 // random fields and velocities fast enough to cross several cells and hit the lookup clamps.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "pipeline/physics/advection.h"
@@ -172,6 +173,62 @@ TEST_P(AdvectTest, BackwardWithoutCacheRecomputesIt) {
                           {.velocity = &recomputed});
   stream.submit();
   EXPECT_TRUE(allClose(recomputed, saved.download(), {0, 0}));
+}
+
+// On a grid of many gather tiles with a spatially varying flow (so the tiles' windows differ), the
+// gradients' projections on random directions match central differences of the reference along them.
+TEST_P(AdvectTest, BackwardMatchesDirectionalDerivativesAcrossTiles) {
+  const ReferenceGrid grid{21, 13, 18};
+  AdvectionCase<float> input = randomCase(grid, GetParam().mac, false, 61, 0.3f);
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < grid.z; ++k)
+      for (int j = 0; j < grid.y; ++j)
+        for (int i = 0; i < grid.x; ++i) {
+          const double swirl = c == 0 ? -0.22 * (k - 9.0) : c == 2 ? 0.22 * (i - 10.5) : 1.5 - 0.1 * j;
+          input.velocity[c * grid.cells() + grid.index(i, j, k)] += static_cast<float>(swirl);
+        }
+  const AdvectionCase<double> exact = widened(input);
+  const physics::AdvectionParams p = params(1.0f);
+  AdvectionDiagnostics diagnostics;
+  referenceAdvect(exact, p, &diagnostics);
+  ASSERT_GT(diagnostics.margin, 1e-6) << "a finite-difference step would cross a switch point; pick another seed";
+
+  Stream stream(context());
+  const GpuCase gpu(stream, input);
+  std::vector<float> upstream;
+  Tensor gradOut = randomTensor(context(), gpu.field.shape(), 62, -1.0f, 1.0f, &upstream);
+  Tensor out(context(), gpu.field.shape());
+  Tensor gradField = poisonedTensor(context(), gpu.field.shape());
+  Tensor gradVelocity = poisonedTensor(context(), gpu.velocity.shape());
+  physics::advectBackward(stream, gpu.flags, gpu.field, gpu.velocity, p, gradOut, nullptr,
+                          {.field = &gradField, .velocity = &gradVelocity});
+  stream.submit();
+
+  auto directional = [&](bool alongVelocity, const std::vector<float>& direction) {
+    const double h = 1e-7;
+    auto moved = [&](double sign) {
+      AdvectionCase<double> point = exact;
+      std::vector<double>& values = alongVelocity ? point.velocity : point.field;
+      for (std::size_t i = 0; i < values.size(); ++i) values[i] += sign * h * direction[i];
+      const std::vector<double> result = referenceAdvect(point, p);
+      double projected = 0;
+      for (std::size_t i = 0; i < result.size(); ++i) projected += upstream[i] * result[i];
+      return projected;
+    };
+    return (moved(1) - moved(-1)) / (2 * h);
+  };
+  auto dot = [](const std::vector<float>& a, const std::vector<float>& b) {
+    double total = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) total += static_cast<double>(a[i]) * b[i];
+    return total;
+  };
+  const std::vector<float> fieldDirection = randomValues(exact.field.size(), 63);
+  const std::vector<float> velocityDirection = randomValues(exact.velocity.size(), 64);
+  const double expectedField = directional(false, fieldDirection);
+  const double expectedVelocity = directional(true, velocityDirection);
+  EXPECT_NEAR(dot(gradField.download(), fieldDirection), expectedField, 1e-4 * std::abs(expectedField) + 1e-3);
+  EXPECT_NEAR(dot(gradVelocity.download(), velocityDirection), expectedVelocity,
+              1e-4 * std::abs(expectedVelocity) + 1e-3);
 }
 
 INSTANTIATE_TEST_SUITE_P(Schemes, AdvectTest,
