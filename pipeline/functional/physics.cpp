@@ -69,7 +69,9 @@ Var divergence(Tape& tape, const Var& velocity, physics::Staggering staggering) 
   return linearOp(
       tape, velocity, volumeOf(velocity, "divergence: velocity"),
       [staggering](Stream& s, const Tensor& u, const Tensor& y) { physics::divergence(s, u, staggering, y); },
-      [staggering](Stream& s, const Tensor& g, const Tensor& gu) { physics::divergenceBackward(s, staggering, g, gu); });
+      [staggering](Stream& s, const Tensor& g, const Tensor& gu) {
+        physics::divergenceBackward(s, staggering, g, gu);
+      });
 }
 
 Var curl(Tape& tape, const Var& velocity) {

@@ -28,8 +28,14 @@ struct Planes {
   bool mac = false;
 
   AdvectPush push(int plane, float dt, float strength = 1.0f) const {
-    return {static_cast<int32_t>(grid.x), static_cast<int32_t>(grid.y), static_cast<int32_t>(grid.z), plane, dt,
-            strength, 0.0f, 0};
+    return {static_cast<int32_t>(grid.x),
+            static_cast<int32_t>(grid.y),
+            static_cast<int32_t>(grid.z),
+            plane,
+            dt,
+            strength,
+            0.0f,
+            0};
   }
   // The specialization constant MODE of a plane: 0 scalar at cell centres, 1 + m MAC component m.
   int32_t mode(int plane) const { return mac ? plane + 1 : 0; }
@@ -124,19 +130,13 @@ void semiLagrangianAdjoint(Stream& stream, const Planes& planes, const Trace& tr
     push.directScale = direct ? directScale : 0.0f;
     push.hasPrior = prior ? 1 : 0;
     stream.dispatch(kernel,
-                        {upstream, field, asVec4(traced.departure), traced.window, direct ? *direct : upstream,
-                         prior ? *prior : upstream, gradField, traceGrad},
-                        push, planes.groups());
+                    {upstream, field, asVec4(traced.departure), traced.window, direct ? *direct : upstream,
+                     prior ? *prior : upstream, gradField, traceGrad},
+                    push, planes.groups());
   }
 }
 
 }  // namespace
-
-AdvectionScheme parseAdvectionScheme(const std::string& name) {
-  if (name == "sl" || name == "semi-lagrangian") return AdvectionScheme::SemiLagrangian;
-  if (name == "mc" || name == "maccormack") return AdvectionScheme::MacCormack;
-  throw Error("advection scheme '" + name + "': expected sl (semi-lagrangian) or mc (maccormack)");
-}
 
 void advect(Stream& stream, const FlagGrid& flags, const Tensor& field, const Tensor& velocity, const Tensor* inflow,
             const AdvectionParams& params, const Tensor& out, AdvectionCache* cache) {
@@ -151,9 +151,9 @@ void advect(Stream& stream, const FlagGrid& flags, const Tensor& field, const Te
   const AdvectionCache prepared = macCormackPrepare(stream, planes, flags, field, velocity, params);
   for (int plane = 0; plane < planes.count; ++plane) {
     const Kernel& kernel = stream.kernel("physics/advect_mc", kWorkgroup, {planes.mode(plane), inflow ? 1 : 0});
-    stream.dispatch(kernel,
-                    {prepared.firstOrder, asVec4(prepared.trace), asVec4(prepared.bounds), inflow ? *inflow : field, out},
-                    planes.push(plane, params.dt, params.strength), planes.groups());
+    stream.dispatch(
+        kernel, {prepared.firstOrder, asVec4(prepared.trace), asVec4(prepared.bounds), inflow ? *inflow : field, out},
+        planes.push(plane, params.dt, params.strength), planes.groups());
   }
   if (cache) *cache = prepared;
 }

@@ -10,8 +10,6 @@
 // flags (mantaflow's bits) and the masks derived from them.
 #pragma once
 
-#include <string>
-
 #include "pipeline/physics/grid.h"
 #include "runtime/stream.h"
 #include "runtime/tensor.h"
@@ -25,9 +23,6 @@ struct AdvectionParams {
   float dt = 1.0f;        // time step; velocity is in cells per unit of time
   float strength = 1.0f;  // MacCormack correction strength
 };
-
-// AdvectionScheme from "sl" / "semi-lagrangian" / "mc" / "maccormack"; Error otherwise.
-AdvectionScheme parseAdvectionScheme(const std::string& name);
 
 // What a MacCormack forward leaves for its backward: the first-order (semi-Lagrangian) pass like
 // the field, and per cell and plane the trace (v, field) and the clamp's range (low, high, first

@@ -24,8 +24,8 @@ enum CellFlag : uint32_t { kFluid = 1, kObstacle = 2, kEmpty = 4 };
 struct GridSize {
   int64_t x = 0, y = 0, z = 0;
   int64_t cells() const { return x * y * z; }
-  Shape volume() const { return {z, y, x}; }       // [D, H, W]
-  Shape vector() const { return {3, z, y, x}; }    // [3, D, H, W]
+  Shape volume() const { return {z, y, x}; }     // [D, H, W]
+  Shape vector() const { return {3, z, y, x}; }  // [3, D, H, W]
   bool operator==(const GridSize&) const = default;
 };
 

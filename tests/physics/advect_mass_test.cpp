@@ -67,15 +67,17 @@ class AdvectMassTest : public GpuTest {
     Tensor field = Tensor::fromHost(context(), kGrid.volume(), density);
     Tensor mac = Tensor::fromHost(context(), kGrid.vector(), velocity);
     Tensor out(context(), kGrid.volume());
-    physics::advect(stream, flags, field, mac, nullptr,
-                    {.scheme = physics::AdvectionScheme::SemiLagrangian, .dt = dt}, out);
+    physics::advect(stream, flags, field, mac, nullptr, {.scheme = physics::AdvectionScheme::SemiLagrangian, .dt = dt},
+                    out);
     stream.submit();
     return total(out.download()) / total(density);
   }
 };
 
 TEST_F(AdvectMassTest, UniformFlowConservesMass) {
-  const std::vector<float> velocity = macVelocity([](const double*) { return std::array<double, 3>{0.37, -0.61, 1.23}; });
+  const std::vector<float> velocity = macVelocity([](const double*) {
+    return std::array<double, 3>{0.37, -0.61, 1.23};
+  });
   EXPECT_NEAR(massRatio(velocity, 1.0f), 1.0, 1e-6);
 }
 

@@ -81,29 +81,32 @@ class AdvectOpCommand : public GpuTest {
 // MacCormack forward, and a backward whose gradients have the inputs' shapes.
 TEST_F(AdvectOpCommand, AdvectsMantaflowCaseForwardAndBackward) {
   const auto arrays = io::readNpz(SMOKESVD_SOURCE_DIR "/../shared/testdata/mantaflow/advect_32x48x32.npz");
-  for (const char* key : {"density_in", "vel_mac", "flags"}) io::writeNpy(file(std::string(key) + ".npy"), arrays.at(key));
+  for (const char* key : {"density_in", "vel_mac", "flags"})
+    io::writeNpy(file(std::string(key) + ".npy"), arrays.at(key));
   io::writeNpy(file("ones.npy"), io::NpyArray::fromFloats(arrays.at("density_in").shape,
                                                           std::vector<float>(arrays.at("density_in").numel(), 1.0f)));
 
-  CommandResult planar = runSmokesvd("op velocity_to_planar --in x=" + file("vel_mac.npy") + " --out y=" + file("velocity.npy"));
+  CommandResult planar =
+      runSmokesvd("op velocity_to_planar --in x=" + file("vel_mac.npy") + " --out y=" + file("velocity.npy"));
   ASSERT_EQ(planar.exitCode, 0) << planar.err;
-  CommandResult forward = runSmokesvd("op advect --in field=" + file("density_in.npy") + " --in velocity=" +
-                                      file("velocity.npy") + " --in flags=" + file("flags.npy") +
-                                      " --attr order=2 --out out=" + file("out.npy"));
+  CommandResult forward =
+      runSmokesvd("op advect --in field=" + file("density_in.npy") + " --in velocity=" + file("velocity.npy") +
+                  " --in flags=" + file("flags.npy") + " --attr order=2 --out out=" + file("out.npy"));
   ASSERT_EQ(forward.exitCode, 0) << forward.err;
   EXPECT_TRUE(allClose(io::readNpy(file("out.npy")).floats, arrays.at("density_mc").floats,
                        arrays.at("density_mc").shape, {1e-6, 1e-6}));
 
-  CommandResult backward = runSmokesvd(
-      "op advect --in field=" + file("density_in.npy") + " --in velocity=" + file("velocity.npy") +
-      " --attr order=1 --in grad_out=" + file("ones.npy") + " --out grad_field=" + file("grad_field.npy") +
-      " --out grad_velocity=" + file("grad_velocity.npy"));
+  CommandResult backward =
+      runSmokesvd("op advect --in field=" + file("density_in.npy") + " --in velocity=" + file("velocity.npy") +
+                  " --attr order=1 --in grad_out=" + file("ones.npy") + " --out grad_field=" + file("grad_field.npy") +
+                  " --out grad_velocity=" + file("grad_velocity.npy"));
   ASSERT_EQ(backward.exitCode, 0) << backward.err;
   EXPECT_EQ(io::readNpy(file("grad_field.npy")).shape, arrays.at("density_in").shape);
   EXPECT_EQ(io::readNpy(file("grad_velocity.npy")).shape, (Shape{3, 32, 48, 32}));
 
-  const CommandResult bad = runSmokesvd("op advect --in field=" + file("density_in.npy") + " --in velocity=" +
-                                        file("velocity.npy") + " --attr order=3 --out out=" + file("out.npy"));
+  const CommandResult bad =
+      runSmokesvd("op advect --in field=" + file("density_in.npy") + " --in velocity=" + file("velocity.npy") +
+                  " --attr order=3 --out out=" + file("out.npy"));
   EXPECT_NE(bad.exitCode, 0);
   EXPECT_NE(bad.err.find("order=3"), std::string::npos) << bad.err;
 }

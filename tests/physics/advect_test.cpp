@@ -41,8 +41,10 @@ AdvectionCase<float> randomCase(ReferenceGrid grid, bool mac, bool withInflow, u
   input.flags = physics::closedBoxFlags({grid.x, grid.y, grid.z});
   for (int i = 0; i < cells; ++i) {
     if (input.flags[i] != static_cast<float>(physics::kFluid)) continue;
-    if (kinds[i] < 0.08f) input.flags[i] = static_cast<float>(physics::kObstacle);
-    else if (kinds[i] < 0.16f) input.flags[i] = static_cast<float>(physics::kEmpty);
+    if (kinds[i] < 0.08f)
+      input.flags[i] = static_cast<float>(physics::kObstacle);
+    else if (kinds[i] < 0.16f)
+      input.flags[i] = static_cast<float>(physics::kEmpty);
   }
   const int planes = mac ? 3 : 1;
   input.field = randomValues(planes * cells, seed + 1, -1.0f, 1.0f);
@@ -66,7 +68,8 @@ AdvectionCase<double> widened(const AdvectionCase<float>& input) {
 struct GpuCase {
   GpuCase(Stream& stream, const AdvectionCase<float>& input)
       : flags(stream, Tensor::fromHost(stream.context(), {input.grid.z, input.grid.y, input.grid.x}, input.flags)),
-        field(Tensor::fromHost(stream.context(), input.mac ? flags.size().vector() : flags.size().volume(), input.field)),
+        field(
+            Tensor::fromHost(stream.context(), input.mac ? flags.size().vector() : flags.size().volume(), input.field)),
         velocity(Tensor::fromHost(stream.context(), flags.size().vector(), input.velocity)) {
     if (!input.inflow.empty()) inflow = Tensor::fromHost(stream.context(), field.shape(), input.inflow);
   }
@@ -155,8 +158,7 @@ TEST_P(AdvectTest, BackwardWithoutCacheRecomputesIt) {
   Tensor saved(context(), gpu.velocity.shape());
   Tensor recomputed = poisonedTensor(context(), gpu.velocity.shape());
   physics::advect(stream, gpu.flags, gpu.field, gpu.velocity, nullptr, params(), out, &cache);
-  physics::advectBackward(stream, gpu.flags, gpu.field, gpu.velocity, params(), gradOut, &cache,
-                          {.velocity = &saved});
+  physics::advectBackward(stream, gpu.flags, gpu.field, gpu.velocity, params(), gradOut, &cache, {.velocity = &saved});
   physics::advectBackward(stream, gpu.flags, gpu.field, gpu.velocity, params(), gradOut, nullptr,
                           {.velocity = &recomputed});
   stream.submit();

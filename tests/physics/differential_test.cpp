@@ -1,17 +1,18 @@
 // Differential operators and the MAC <-> centred conversion against plain CPU references, and their
 // adjoints against finite differences in double, on small odd-sized grids.
+#include "pipeline/physics/differential.h"
+
 #include <gtest/gtest.h>
 
 #include <array>
 #include <functional>
 
-#include "pipeline/physics/differential.h"
 #include "pipeline/physics/grid.h"
+#include "runtime/error.h"
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/gradcheck.h"
 #include "tests/harness/random.h"
-#include "runtime/error.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -43,7 +44,9 @@ void forEachCell(Body body) {
 }
 
 // Plain references in double. u is planar [3, cells].
-double at(std::span<const double> u, int plane, const Cell& c) { return inGrid(c) ? u[plane * cells() + index(c)] : 0.0; }
+double at(std::span<const double> u, int plane, const Cell& c) {
+  return inGrid(c) ? u[plane * cells() + index(c)] : 0.0;
+}
 
 double difference(std::span<const double> u, int plane, const Cell& c, int d) {
   if (c[d] == 0) return at(u, plane, shifted(c, d, 1)) - at(u, plane, c);
@@ -106,8 +109,7 @@ class DifferentialTest : public GpuTest {
   // upstream gradient and compares with finite differences of the reference.
   void check(const std::function<std::vector<double>(std::span<const double>)>& reference, const Shape& outShape,
              const std::function<void(Stream&, const Tensor&, const Tensor&)>& forward,
-             const std::function<void(Stream&, const Tensor&, const Tensor&, const Tensor&)>& backward,
-             uint64_t seed) {
+             const std::function<void(Stream&, const Tensor&, const Tensor&, const Tensor&)>& backward, uint64_t seed) {
     std::vector<float> u;
     Tensor velocity = randomTensor(context(), kGrid.vector(), seed, -1, 1, &u);
     std::vector<float> g;
@@ -125,17 +127,19 @@ class DifferentialTest : public GpuTest {
 };
 
 TEST_F(DifferentialTest, MacToCentredAndBack) {
-  check(macToCentred, kGrid.vector(), physics::macToCentred,
-        [](Stream& s, const Tensor&, const Tensor& g, const Tensor& out) { physics::centredToMac(s, g, out); }, 1);
-  check(centredToMac, kGrid.vector(), physics::centredToMac,
-        [](Stream& s, const Tensor&, const Tensor& g, const Tensor& out) { physics::macToCentred(s, g, out); }, 2);
+  check(
+      macToCentred, kGrid.vector(), physics::macToCentred,
+      [](Stream& s, const Tensor&, const Tensor& g, const Tensor& out) { physics::centredToMac(s, g, out); }, 1);
+  check(
+      centredToMac, kGrid.vector(), physics::centredToMac,
+      [](Stream& s, const Tensor&, const Tensor& g, const Tensor& out) { physics::macToCentred(s, g, out); }, 2);
 }
 
 // A linear velocity field is reproduced exactly by the face averages: MAC samples give the centred
 // samples and back, wherever the averages stay inside the grid.
 TEST_F(DifferentialTest, MacCentredRoundTripIsExactForLinearFields) {
-  const std::array<std::array<double, 4>, 3> coefficients{{{0.3, 0.1, -0.2, 0.05}, {-0.4, 0.02, 0.3, -0.1},
-                                                           {0.2, -0.15, 0.07, 0.12}}};
+  const std::array<std::array<double, 4>, 3> coefficients{
+      {{0.3, 0.1, -0.2, 0.05}, {-0.4, 0.02, 0.3, -0.1}, {0.2, -0.15, 0.07, 0.12}}};
   auto linear = [&](int d, double x, double y, double z) {
     return coefficients[d][0] + coefficients[d][1] * x + coefficients[d][2] * y + coefficients[d][3] * z;
   };
@@ -188,8 +192,9 @@ TEST_F(DifferentialTest, DivergenceOfCentredVelocity) {
 }
 
 TEST_F(DifferentialTest, Curl) {
-  check(curl, kGrid.vector(), physics::curl,
-        [](Stream& s, const Tensor&, const Tensor& g, const Tensor& out) { physics::curlBackward(s, g, out); }, 5);
+  check(
+      curl, kGrid.vector(), physics::curl,
+      [](Stream& s, const Tensor&, const Tensor& g, const Tensor& out) { physics::curlBackward(s, g, out); }, 5);
 }
 
 TEST_F(DifferentialTest, GradientNormSquared) {

@@ -37,7 +37,8 @@ Scene makeScene(Context& context, const GridSize& grid) {
         const double r2 = (x * x + y * y + z * z) / (0.04 * static_cast<double>(grid.x * grid.x));
         density[at] = static_cast<float>(std::exp(-r2));
         velocity[at] = static_cast<float>(-0.04 * z);
-        velocity[static_cast<std::size_t>(cells) + at] = static_cast<float>(0.3 + 1.2 * std::exp(-(x * x + z * z) / 200.0));
+        velocity[static_cast<std::size_t>(cells) + at] =
+            static_cast<float>(0.3 + 1.2 * std::exp(-(x * x + z * z) / 200.0));
         velocity[static_cast<std::size_t>(2 * cells) + at] = static_cast<float>(0.04 * x);
       }
   Stream stream(context);
