@@ -159,7 +159,9 @@ const bool registered =
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(curl(t, in[0])); }}) &&
     registerOp({"gradient_norm", "y [D,H,W] = squared Frobenius norm of the velocity gradient (cell-centred)",
                 {"velocity"}, {}, {}, {"y"},
-                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(gradientNormSquared(t, in[0])); }}) &&
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) {
+                  return one(gradientNormSquared(t, in[0]));
+                }}) &&
     registerOp({"velocity_to_planar", "y [3,D,H,W] = x [D,H,W,3] (file layout to kernel layout)", {"x"}, {}, {}, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(velocityToPlanar(t, in[0])); }}) &&
     registerOp({"velocity_to_interleaved", "y [D,H,W,3] = x [3,D,H,W] (kernel layout to file layout)", {"x"}, {}, {},

@@ -53,8 +53,9 @@ vec3 traceVelocity(samplerBuffer velocity, ivec3 c) {
     if (d == m) {
       v[d] = fetchVelocity(velocity, d, at);
     } else {
+      const int up = at + stride[d];
       v[d] = 0.25 * (fetchVelocity(velocity, d, at) + fetchVelocity(velocity, d, at - stride[m]) +
-                     fetchVelocity(velocity, d, at + stride[d]) + fetchVelocity(velocity, d, at + stride[d] - stride[m]));
+                     fetchVelocity(velocity, d, up) + fetchVelocity(velocity, d, up - stride[m]));
     }
   }
   return v;

@@ -16,7 +16,9 @@ int cellIndex(ivec3 c) { return (c.z * n.y + c.y) * n.x + c.x; }
 bool inGrid(ivec3 c) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan(c, n)); }
 ivec3 unitStep(int d) { return ivec3(d == 0 ? 1 : 0, d == 1 ? 1 : 0, d == 2 ? 1 : 0); }
 
-float valueAt(samplerBuffer field, int plane, ivec3 c) { return texelFetch(field, plane * cellCount() + cellIndex(c)).x; }
+float valueAt(samplerBuffer field, int plane, ivec3 c) {
+  return texelFetch(field, plane * cellCount() + cellIndex(c)).x;
+}
 
 // The coefficient of f(j) in ∂f(i) along an axis of m cells.
 float differenceWeight(int i, int j, int m) {
