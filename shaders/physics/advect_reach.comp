@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The plane's overall reach from its tiles' (advect_tile_reach): one workgroup of GROUP invocations,
-// each taking every GROUP-th tile, then a tree in shared memory:
+// The plane's overall reach from its tiles' (advect_tile_reach): one workgroup of G invocations,
+// each taking every G-th tile, then a tree in shared memory (G a power of two):
 //   reach[entry tiles][k] = max over tiles U of reach[U][k]   for k = 0..2, 4..6
 // (stored values are biased and 0 means empty, so the plain maximum is the union).
 #include "advect_sampling.glsl"

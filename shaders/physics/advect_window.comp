@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // Gather windows of the advection adjoint, one invocation per source tile T of one plane. A target
-// tile U (reach from advect_trace) hands weight to the cells [U_min + min o, U_max + max o + 1] per
+// tile U (reach from advect_tile_reach) hands weight to the cells [U_min + min o, U_max + max o + 1] per
 // axis; window(T) is the union of the offset ranges [min o, max o] of every target tile whose range
 // meets T, searched within the plane's overall reach. Written as window[8·(plane·tiles + T)]:
 // [0..2] REACH_BIAS + max o_d, [4..6] REACH_BIAS + max −o_d (0: no target reaches T).
