@@ -1,0 +1,176 @@
+#include "nets/ops/conv_kernels.h"
+
+#include <algorithm>
+#include <bit>
+#include <string>
+
+#include "runtime/error.h"
+
+namespace smokesvd::ops::conv {
+namespace {
+
+constexpr std::array<uint32_t, 3> kFlatWorkgroup{64, 1, 1};
+constexpr uint32_t kDirectWorkgroup = 32;      // lanes along flattened output rows
+constexpr uint32_t kWeightGradWorkgroup = 16;  // lanes along (input channel, kz)
+// The weight gradient splits its reduction over output rows into chunks until about this many
+// invocations run; the bias gradient sums chunks of this many positions per invocation.
+constexpr int64_t kWeightGradInvocations = 2048;
+constexpr int64_t kBiasChunk = 2048;
+
+int32_t i32(int64_t value) { return static_cast<int32_t>(value); }
+
+uint32_t groupsFor(int64_t items, uint32_t workgroup) {
+  return static_cast<uint32_t>((items + workgroup - 1) / workgroup);
+}
+
+// out[i] = sum_j partial[j*n + i]
+void sumPartials(Stream& stream, const Tensor& partial, int64_t parts, const Tensor& out) {
+  struct { int32_t n, parts; } push{i32(out.numel()), i32(parts)};
+  stream.dispatchFlat(stream.kernel("nn/conv_sum_partials", kFlatWorkgroup), {partial, out}, push,
+                      static_cast<uint64_t>(out.numel()));
+}
+
+}  // namespace
+
+int64_t roundUp(int64_t value, int64_t multiple) { return (value + multiple - 1) / multiple * multiple; }
+
+int choosePixels(int requested, int64_t width) {
+  if (requested != 0) {
+    if (requested < 1 || requested > 16)
+      throw Error("conv: blocking of " + std::to_string(requested) + " pixels, expected 1..16");
+    return requested;
+  }
+  return static_cast<int>(std::bit_ceil(static_cast<uint64_t>(std::min<int64_t>(width, 8))));
+}
+
+int chooseChannelVec4s(int requested, int64_t channels) {
+  if (requested != 0) {
+    if (requested < 1 || requested > 4)
+      throw Error("conv: blocking of " + std::to_string(requested) + " channel vec4s, expected 1..4");
+    return requested;
+  }
+  return channels <= 4 ? 1 : 2;
+}
+
+Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size) {
+  const Shape& s = x5.shape();
+  Padded xp;
+  xp.size = {size[0], size[1], roundUp(size[2], 4)};
+  xp.tensor = Tensor(stream.context(), {s[0], s[1], xp.size[0], xp.size[1], xp.size[2]});
+  struct {
+    int32_t depth, height, width, paddedDepth, paddedHeight, paddedRowVec4s, lowZ, lowY, lowX, count;
+  } push{i32(s[2]),      i32(s[3]),      i32(s[4]),           i32(xp.size[0]),
+         i32(xp.size[1]), i32(xp.size[2] / 4), i32(low[0]), i32(low[1]), i32(low[2]), i32(xp.tensor.numel() / 4)};
+  stream.dispatchFlat(stream.kernel("nn/conv_pad", kFlatWorkgroup), {x5, xp.tensor}, push,
+                      static_cast<uint64_t>(push.count));
+  return xp;
+}
+
+Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int64_t paddedK) {
+  const int64_t vec4s = p.inChannels * p.taps[0] * p.taps[1] * p.taps[2] * paddedK / 4;
+  Tensor packed(stream.context(), {std::max<int64_t>(vec4s, 1) * 4});
+  struct {
+    int32_t taps[4], first[4], step[4], strides[4];
+  } push{{i32(p.taps[0]), i32(p.taps[1]), i32(p.taps[2]), i32(vec4s)},
+         {i32(p.firstTap[0]), i32(p.firstTap[1]), i32(p.firstTap[2]), i32(p.outChannels)},
+         {i32(p.tapStep[0]), i32(p.tapStep[1]), i32(p.tapStep[2]), i32(paddedK / 4)},
+         {i32(p.strideK), i32(p.strideC), i32(p.sourceKernel[1] * p.sourceKernel[2]), i32(p.sourceKernel[2])}};
+  stream.dispatchFlat(stream.kernel("nn/conv_pack_weights", kFlatWorkgroup), {w, packed}, push,
+                      static_cast<uint64_t>(vec4s));
+  return packed;
+}
+
+void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const Tensor* bias, const Tensor& y5,
+            const DirectPass& pass, int pixels, int channelVec4s) {
+  const Shape& in = xp.tensor.shape();
+  const Shape& out = y5.shape();
+  const int64_t xBlocks = (pass.grid[2] + pixels - 1) / pixels;
+  const int64_t items = xBlocks * pass.grid[1] * pass.grid[0];
+  const int64_t channelBlock = 4 * channelVec4s;
+  const int64_t kBlocks = (out[1] + channelBlock - 1) / channelBlock;
+  const int64_t inSlice = xp.size[1] * xp.size[2];
+  const int64_t outSlice = out[3] * out[4];
+  struct {
+    int32_t channels, inPlane, inSlice, inRow, inBase, gridD, gridH, gridW, xBlocks, outChannels, weightRow, outPlane,
+        outStepZ, outStepY, outStepX, outBase;
+  } push{i32(in[1]),
+         i32(xp.size[0] * inSlice),
+         i32(inSlice),
+         i32(xp.size[2]),
+         i32(pass.inStart[0] * inSlice + pass.inStart[1] * xp.size[2] + pass.inStart[2]),
+         i32(pass.grid[0]),
+         i32(pass.grid[1]),
+         i32(pass.grid[2]),
+         i32(xBlocks),
+         i32(out[1]),
+         i32(kBlocks * channelVec4s),
+         i32(out[2] * outSlice),
+         i32(pass.outStep[0] * outSlice),
+         i32(pass.outStep[1] * out[4]),
+         i32(pass.outStep[2]),
+         i32(pass.outStart[0] * outSlice + pass.outStart[1] * out[4] + pass.outStart[2])};
+  const Kernel& kernel =
+      stream.kernel("nn/conv_direct", {kDirectWorkgroup, 1, 1},
+                    {i32(pass.taps[0]), i32(pass.taps[1]), i32(pass.taps[2]), pass.stride, pixels, channelVec4s,
+                     bias != nullptr ? 1 : 0});
+  const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(packedWeights);
+  stream.dispatch(kernel, {xp.tensor, asVec4(packedWeights), biasArg, y5}, push,
+                  {groupsFor(items, kDirectWorkgroup), static_cast<uint32_t>(kBlocks), static_cast<uint32_t>(out[0])});
+}
+
+Tensor packGrad(Stream& stream, const Tensor& g5, int64_t paddedWidth, int64_t paddedK) {
+  const Shape& s = g5.shape();
+  const int64_t rows = s[0] * s[2] * s[3];
+  Tensor packed(stream.context(), {rows * paddedWidth * paddedK});
+  struct {
+    int32_t channels, rowsPerItem, width, paddedWidth, channelVec4s, count;
+  } push{i32(s[1]), i32(s[2] * s[3]), i32(s[4]), i32(paddedWidth), i32(paddedK / 4), i32(packed.numel() / 4)};
+  stream.dispatchFlat(stream.kernel("nn/conv_pack_grad", kFlatWorkgroup), {g5, packed}, push,
+                      static_cast<uint64_t>(push.count));
+  return packed;
+}
+
+void weightGrad(Stream& stream, const ConvGeometry& g, const Padded& xp, const Tensor& gradRows, const Tensor& dw,
+                int pixels, int channelVec4s) {
+  const int64_t channelBlock = 4 * channelVec4s;
+  const int64_t kBlocks = (g.outChannels + channelBlock - 1) / channelBlock;
+  const int64_t xBlocks = (g.output[2] + pixels - 1) / pixels;
+  const int64_t rows = g.batch * g.output[0] * g.output[1];
+  const int64_t lanes = g.inChannels * g.kernel[0];
+  const int64_t baseInvocations = roundUp(lanes, kWeightGradWorkgroup) * kBlocks;
+  const int64_t wantedChunks = std::clamp<int64_t>(kWeightGradInvocations / baseInvocations, 1, rows);
+  const int64_t rowsPerChunk = (rows + wantedChunks - 1) / wantedChunks;
+  const int64_t chunks = (rows + rowsPerChunk - 1) / rowsPerChunk;
+  const Tensor partial = chunks == 1 ? dw : Tensor(stream.context(), {chunks * dw.numel()});
+
+  const int64_t inSlice = xp.size[1] * xp.size[2];
+  struct {
+    int32_t channels, inPlane, inSlice, inRow, outHeight, rowsPerItem, rows, rowsPerChunk, xBlocks, gradRow,
+        outChannels;
+  } push{i32(g.inChannels), i32(xp.size[0] * inSlice), i32(inSlice), i32(xp.size[2]),
+         i32(g.output[1]),  i32(g.output[0] * g.output[1]), i32(rows), i32(rowsPerChunk),
+         i32(xBlocks),      i32(kBlocks * channelVec4s), i32(g.outChannels)};
+  const Kernel& kernel = stream.kernel(
+      "nn/conv_weight_grad", {kWeightGradWorkgroup, 1, 1},
+      {i32(g.kernel[0]), i32(g.kernel[1]), i32(g.kernel[2]), g.stride, pixels, channelVec4s});
+  stream.dispatch(kernel, {xp.tensor, asVec4(gradRows), partial}, push,
+                  {groupsFor(lanes, kWeightGradWorkgroup), static_cast<uint32_t>(kBlocks),
+                   static_cast<uint32_t>(chunks)});
+  if (chunks > 1) sumPartials(stream, partial, chunks, dw);
+}
+
+void biasGrad(Stream& stream, const Tensor& g, const Tensor& db) {
+  const int64_t channels = g.size(1);
+  const int64_t plane = g.numel() / (g.size(0) * channels);
+  const int64_t positions = g.size(0) * plane;
+  const int64_t chunks = (positions + kBiasChunk - 1) / kBiasChunk;
+  const Tensor partial = chunks == 1 ? db : Tensor(stream.context(), {chunks * channels});
+  struct {
+    int32_t channels, plane, positions, chunkSize, count;
+  } push{i32(channels), i32(plane), i32(positions), i32(kBiasChunk), i32(chunks * channels)};
+  stream.dispatchFlat(stream.kernel("nn/conv_bias_grad", kFlatWorkgroup), {g, partial}, push,
+                      static_cast<uint64_t>(push.count));
+  if (chunks > 1) sumPartials(stream, partial, chunks, db);
+}
+
+}  // namespace smokesvd::ops::conv
