@@ -10,6 +10,10 @@ namespace smokesvd::ops::conv {
 namespace {
 
 constexpr std::array<uint32_t, 3> kFlatWorkgroup{64, 1, 1};
+// Layout kernels keep index divisions out of the lanes: workgroup y and z number rows and planes
+// (values shared by the workgroup), lanes run along a row, and an invocation writes a run of vec4s.
+constexpr std::array<uint32_t, 3> kGridWorkgroup{8, 1, 1};
+constexpr std::array<uint32_t, 3> kRowWorkgroup{16, 1, 1};
 constexpr uint32_t kDirectWorkgroup = 32;      // lanes along flattened output rows
 constexpr uint32_t kWeightGradWorkgroup = 16;  // lanes along (input channel, kz)
 // The weight gradient splits its reduction over output rows into chunks until about this many
@@ -56,33 +60,38 @@ Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size) 
   const Shape& s = x5.shape();
   Padded xp;
   xp.size = {size[0], size[1], roundUp(size[2], 4)};
-  xp.tensor = Tensor(stream.context(), {s[0], s[1], xp.size[0], xp.size[1], xp.size[2]});
+  xp.batch = s[0];
+  xp.channels = s[1];
+  // Four floats of slack: a kernel may read a whole vec4 from the last element on.
+  xp.tensor = Tensor(stream.context(), {s[0] * s[1] * xp.size[0] * xp.size[1] * xp.size[2] + 4});
   struct {
-    int32_t depth, height, width, paddedDepth, paddedHeight, paddedRowVec4s, lowZ, lowY, lowX, count;
-  } push{i32(s[2]),      i32(s[3]),      i32(s[4]),           i32(xp.size[0]),
-         i32(xp.size[1]), i32(xp.size[2] / 4), i32(low[0]), i32(low[1]), i32(low[2]), i32(xp.tensor.numel() / 4)};
-  stream.dispatchFlat(stream.kernel("nn/conv_pad", kFlatWorkgroup), {x5, xp.tensor}, push,
-                      static_cast<uint64_t>(push.count));
+    int32_t depth, height, width, paddedDepth, paddedHeight, paddedRowVec4s, lowZ, lowY, lowX;
+  } push{i32(s[2]),          i32(s[3]),          i32(s[4]),           i32(xp.size[0]), i32(xp.size[1]),
+         i32(xp.size[2] / 4), i32(low[0]), i32(low[1]), i32(low[2])};
+  stream.dispatch(stream.kernel("nn/conv_pad", kRowWorkgroup), {x5, xp.tensor}, push,
+                  {groupsFor(xp.size[1], kRowWorkgroup[0]), static_cast<uint32_t>(s[0] * s[1] * xp.size[0]), 1});
   return xp;
 }
 
 Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int64_t paddedK) {
-  const int64_t vec4s = p.inChannels * p.taps[0] * p.taps[1] * p.taps[2] * paddedK / 4;
+  const int64_t tapCount = p.taps[0] * p.taps[1] * p.taps[2];
+  const int64_t vec4s = p.inChannels * tapCount * paddedK / 4;
   Tensor packed(stream.context(), {std::max<int64_t>(vec4s, 1) * 4});
   struct {
     int32_t taps[4], first[4], step[4], strides[4];
-  } push{{i32(p.taps[0]), i32(p.taps[1]), i32(p.taps[2]), i32(vec4s)},
+  } push{{i32(p.taps[0]), i32(p.taps[1]), i32(p.taps[2]), 0},
          {i32(p.firstTap[0]), i32(p.firstTap[1]), i32(p.firstTap[2]), i32(p.outChannels)},
          {i32(p.tapStep[0]), i32(p.tapStep[1]), i32(p.tapStep[2]), i32(paddedK / 4)},
          {i32(p.strideK), i32(p.strideC), i32(p.sourceKernel[1] * p.sourceKernel[2]), i32(p.sourceKernel[2])}};
-  stream.dispatchFlat(stream.kernel("nn/conv_pack_weights", kFlatWorkgroup), {w, packed}, push,
-                      static_cast<uint64_t>(vec4s));
+  if (vec4s > 0)
+    stream.dispatch(stream.kernel("nn/conv_pack_weights", kGridWorkgroup), {w, packed}, push,
+                    {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(tapCount),
+                     static_cast<uint32_t>(p.inChannels)});
   return packed;
 }
 
 void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const Tensor* bias, const Tensor& y5,
             const DirectPass& pass, int pixels, int channelVec4s) {
-  const Shape& in = xp.tensor.shape();
   const Shape& out = y5.shape();
   const int64_t xBlocks = (pass.grid[2] + pixels - 1) / pixels;
   const int64_t items = xBlocks * pass.grid[1] * pass.grid[0];
@@ -90,10 +99,12 @@ void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const
   const int64_t kBlocks = (out[1] + channelBlock - 1) / channelBlock;
   const int64_t inSlice = xp.size[1] * xp.size[2];
   const int64_t outSlice = out[3] * out[4];
+  // Every row an invocation reads starts on a vec4 when the first does and blocks advance by whole vec4s.
+  const bool alignedRows = pass.inStart[2] % 4 == 0 && (pixels * pass.stride) % 4 == 0;
   struct {
     int32_t channels, inPlane, inSlice, inRow, inBase, gridD, gridH, gridW, xBlocks, outChannels, weightRow, outPlane,
         outStepZ, outStepY, outStepX, outBase;
-  } push{i32(in[1]),
+  } push{i32(xp.channels),
          i32(xp.size[0] * inSlice),
          i32(inSlice),
          i32(xp.size[2]),
@@ -112,9 +123,9 @@ void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const
   const Kernel& kernel =
       stream.kernel("nn/conv_direct", {kDirectWorkgroup, 1, 1},
                     {i32(pass.taps[0]), i32(pass.taps[1]), i32(pass.taps[2]), pass.stride, pixels, channelVec4s,
-                     bias != nullptr ? 1 : 0});
+                     bias != nullptr ? 1 : 0, alignedRows ? 1 : 0});
   const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(packedWeights);
-  stream.dispatch(kernel, {xp.tensor, asVec4(packedWeights), biasArg, y5}, push,
+  stream.dispatch(kernel, {xp.tensor, asVec4(xp.tensor), asVec4(packedWeights), biasArg, y5}, push,
                   {groupsFor(items, kDirectWorkgroup), static_cast<uint32_t>(kBlocks), static_cast<uint32_t>(out[0])});
 }
 
@@ -123,10 +134,10 @@ Tensor packGrad(Stream& stream, const Tensor& g5, int64_t paddedWidth, int64_t p
   const int64_t rows = s[0] * s[2] * s[3];
   Tensor packed(stream.context(), {rows * paddedWidth * paddedK});
   struct {
-    int32_t channels, rowsPerItem, width, paddedWidth, channelVec4s, count;
-  } push{i32(s[1]), i32(s[2] * s[3]), i32(s[4]), i32(paddedWidth), i32(paddedK / 4), i32(packed.numel() / 4)};
-  stream.dispatchFlat(stream.kernel("nn/conv_pack_grad", kFlatWorkgroup), {g5, packed}, push,
-                      static_cast<uint64_t>(push.count));
+    int32_t channels, rowsPerItem, width, paddedWidth, channelVec4s;
+  } push{i32(s[1]), i32(s[2] * s[3]), i32(s[4]), i32(paddedWidth), i32(paddedK / 4)};
+  stream.dispatch(stream.kernel("nn/conv_pack_grad", kRowWorkgroup), {g5, packed}, push,
+                  {groupsFor(paddedWidth, kRowWorkgroup[0]), static_cast<uint32_t>(rows), 1});
   return packed;
 }
 
@@ -152,8 +163,9 @@ void weightGrad(Stream& stream, const ConvGeometry& g, const Padded& xp, const T
          i32(xBlocks),      i32(kBlocks * channelVec4s), i32(g.outChannels)};
   const Kernel& kernel = stream.kernel(
       "nn/conv_weight_grad", {kWeightGradWorkgroup, 1, 1},
-      {i32(g.kernel[0]), i32(g.kernel[1]), i32(g.kernel[2]), g.stride, pixels, channelVec4s});
-  stream.dispatch(kernel, {xp.tensor, asVec4(gradRows), partial}, push,
+      {i32(g.kernel[0]), i32(g.kernel[1]), i32(g.kernel[2]), g.stride, pixels, channelVec4s,
+       (pixels * g.stride) % 4 == 0 ? 1 : 0});
+  stream.dispatch(kernel, {xp.tensor, asVec4(xp.tensor), asVec4(gradRows), partial}, push,
                   {groupsFor(lanes, kWeightGradWorkgroup), static_cast<uint32_t>(kBlocks),
                    static_cast<uint32_t>(chunks)});
   if (chunks > 1) sumPartials(stream, partial, chunks, dw);

@@ -14,9 +14,12 @@ int chooseChannelVec4s(int requested, int64_t channels);
 int64_t roundUp(int64_t value, int64_t multiple);
 
 // A zero-padded copy [N, C, size] of an [N, C, D, H, W] tensor placed at `low`; size[2] is rounded up to
-// a multiple of 4. Rows and columns of the source past `size` are left out.
+// a multiple of 4. Rows and columns of the source past `size` are left out. The tensor is flat, with four
+// floats of slack after the padded data.
 struct Padded {
   Tensor tensor;
+  int64_t batch = 0;
+  int64_t channels = 0;
   Int3 size{};
 };
 Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size);

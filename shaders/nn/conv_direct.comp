@@ -25,13 +25,16 @@ layout(constant_id = 6) const int STRIDE = 1;
 layout(constant_id = 7) const int PIXELS = 8;
 layout(constant_id = 8) const int CHANNEL_VEC4S = 2;
 layout(constant_id = 9) const bool HAS_BIAS = false;
+layout(constant_id = 10) const bool ALIGNED_ROWS = false;
 
 const int SPAN = (PIXELS - 1) * STRIDE + KW;
+const int SPAN_VEC4S = (SPAN + 3) / 4;
 
 layout(binding = 0) uniform samplerBuffer xp;
-layout(binding = 1) uniform samplerBuffer wp;
-layout(binding = 2) uniform samplerBuffer bias;
-layout(std430, binding = 3) writeonly buffer Output { float y[]; };
+layout(binding = 1) uniform samplerBuffer xp4;
+layout(binding = 2) uniform samplerBuffer wp;
+layout(binding = 3) uniform samplerBuffer bias;
+layout(std430, binding = 4) writeonly buffer Output { float y[]; };
 layout(push_constant) uniform Push {
   int channels;     // C
   int inPlane;      // Dp*Hp*Wp
@@ -75,15 +78,23 @@ void main() {
     for (int r = 0; r < KD; ++r) {
       for (int s = 0; s < KH; ++s) {
         const int rowStart = source + r * inSlice + s * inRow;
-        float v[SPAN];
-        for (int i = 0; i < SPAN; ++i) v[i] = texelFetch(xp, rowStart + i).x;
-        for (int t = 0; t < KW; ++t) {
-          const int tap = w + ((r * KH + s) * KW + t) * weightRow;
-          for (int q = 0; q < CHANNEL_VEC4S; ++q) {
-            const vec4 weight = texelFetch(wp, tap + q);
-            for (int p = 0; p < PIXELS; ++p) acc[p][q] += v[p * STRIDE + t] * weight;
+        const int tapRow = w + (r * KH + s) * KW * weightRow;
+        vec4 v[SPAN_VEC4S];
+        for (int i = 0; i < SPAN_VEC4S; ++i) {
+          if (ALIGNED_ROWS) {
+            v[i] = texelFetch(xp4, rowStart / 4 + i);
+          } else {
+            const int at = rowStart + 4 * i;
+            v[i] = vec4(texelFetch(xp, at).x, texelFetch(xp, at + 1).x, texelFetch(xp, at + 2).x,
+                        texelFetch(xp, at + 3).x);
           }
         }
+        vec4 weight[KW][CHANNEL_VEC4S];
+        for (int t = 0; t < KW; ++t)
+          for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[t][q] = texelFetch(wp, tapRow + t * weightRow + q);
+        for (int p = 0; p < PIXELS; ++p)
+          for (int t = 0; t < KW; ++t)
+            for (int q = 0; q < CHANNEL_VEC4S; ++q) acc[p][q] += v[(p * STRIDE + t) / 4][(p * STRIDE + t) % 4] * weight[t][q];
       }
     }
   }
@@ -91,11 +102,10 @@ void main() {
   const int outRow = n * outChannels * outPlane + outBase + oz * outStepZ + oy * outStepY;
   for (int p = 0; p < PIXELS; ++p) {
     const int ox = ox0 + p;
-    if (ox >= gridW) break;
     for (int q = 0; q < CHANNEL_VEC4S; ++q) {
       for (int lane = 0; lane < 4; ++lane) {
         const int k = (kBlock * CHANNEL_VEC4S + q) * 4 + lane;
-        if (k < outChannels) y[outRow + k * outPlane + ox * outStepX] = acc[p][q][lane];
+        if (ox < gridW && k < outChannels) y[outRow + k * outPlane + ox * outStepX] = acc[p][q][lane];
       }
     }
   }

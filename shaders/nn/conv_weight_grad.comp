@@ -17,12 +17,15 @@ layout(constant_id = 5) const int KW = 3;
 layout(constant_id = 6) const int STRIDE = 1;
 layout(constant_id = 7) const int PIXELS = 8;
 layout(constant_id = 8) const int CHANNEL_VEC4S = 1;
+layout(constant_id = 9) const bool ALIGNED_ROWS = false;
 
 const int SPAN = (PIXELS - 1) * STRIDE + KW;
+const int SPAN_VEC4S = (SPAN + 3) / 4;
 
 layout(binding = 0) uniform samplerBuffer xp;
-layout(binding = 1) uniform samplerBuffer gT;
-layout(std430, binding = 2) writeonly buffer Partials { float partial[]; };
+layout(binding = 1) uniform samplerBuffer xp4;
+layout(binding = 2) uniform samplerBuffer gT;
+layout(std430, binding = 3) writeonly buffer Partials { float partial[]; };
 layout(push_constant) uniform Push {
   int channels;      // C
   int inPlane;       // Dp*Hp*Wp
@@ -60,16 +63,25 @@ void main() {
     int source = (n * channels + c) * inPlane + (oz * STRIDE + r) * inSlice + oy * STRIDE * inRow;
     int g = m * xBlocks * PIXELS * gradRow + kBlock * CHANNEL_VEC4S;
     for (int xBlock = 0; xBlock < xBlocks; ++xBlock, source += PIXELS * STRIDE, g += PIXELS * gradRow) {
-      float v[KH][SPAN];
-      for (int s = 0; s < KH; ++s)
-        for (int i = 0; i < SPAN; ++i) v[s][i] = texelFetch(xp, source + s * inRow + i).x;
-      for (int p = 0; p < PIXELS; ++p) {
-        for (int q = 0; q < CHANNEL_VEC4S; ++q) {
-          const vec4 grad = texelFetch(gT, g + p * gradRow + q);
-          for (int s = 0; s < KH; ++s)
-            for (int t = 0; t < KW; ++t) acc[s][t][q] += v[s][p * STRIDE + t] * grad;
+      vec4 v[KH][SPAN_VEC4S];
+      for (int s = 0; s < KH; ++s) {
+        for (int i = 0; i < SPAN_VEC4S; ++i) {
+          const int at = source + s * inRow + 4 * i;
+          if (ALIGNED_ROWS) {
+            v[s][i] = texelFetch(xp4, at / 4);
+          } else {
+            v[s][i] = vec4(texelFetch(xp, at).x, texelFetch(xp, at + 1).x, texelFetch(xp, at + 2).x,
+                           texelFetch(xp, at + 3).x);
+          }
         }
       }
+      vec4 grad[PIXELS][CHANNEL_VEC4S];
+      for (int p = 0; p < PIXELS; ++p)
+        for (int q = 0; q < CHANNEL_VEC4S; ++q) grad[p][q] = texelFetch(gT, g + p * gradRow + q);
+      for (int p = 0; p < PIXELS; ++p)
+        for (int s = 0; s < KH; ++s)
+          for (int t = 0; t < KW; ++t)
+            for (int q = 0; q < CHANNEL_VEC4S; ++q) acc[s][t][q] += v[s][(p * STRIDE + t) / 4][(p * STRIDE + t) % 4] * grad[p][q];
     }
   }
 
@@ -77,10 +89,10 @@ void main() {
   for (int q = 0; q < CHANNEL_VEC4S; ++q) {
     for (int lane = 0; lane < 4; ++lane) {
       const int k = (kBlock * CHANNEL_VEC4S + q) * 4 + lane;
-      if (k >= outChannels) continue;
       const int base = ((chunk * outChannels + k) * channels + c) * taps + r * KH * KW;
       for (int s = 0; s < KH; ++s)
-        for (int t = 0; t < KW; ++t) partial[base + s * KW + t] = acc[s][t][q][lane];
+        for (int t = 0; t < KW; ++t)
+          if (k < outChannels) partial[base + s * KW + t] = acc[s][t][q][lane];
     }
   }
 }
