@@ -29,8 +29,8 @@ int64_t taps(const Int3& kernel) { return kernel[0] * kernel[1] * kernel[2]; }
 // y = conv(x, w) + b: pad x, pack w as [C, k..., K], one direct pass with the conv's stride.
 void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& w, const Tensor* bias,
              const Tensor& y, ConvBlocking blocking) {
-  const int pixels = conv::choosePixels(blocking.pixels, g.output[2]);
-  const int channelVec4s = conv::chooseChannelVec4s(blocking.channelVec4s, g.outChannels);
+  const ConvBlocking chosen = conv::directBlocking(blocking, g.output[2], g.kernel[0]);
+  const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t xBlocks = (g.output[2] + pixels - 1) / pixels;
   const Int3 size{(g.output[0] - 1) * g.stride + g.kernel[0], (g.output[1] - 1) * g.stride + g.kernel[1],
                   (xBlocks * pixels - 1) * g.stride + g.kernel[2]};
@@ -68,8 +68,8 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
     if (axis == 2)
       for (const conv::Phase& p : phases[axis]) widest = std::max(widest, p.count);
   }
-  const int pixels = conv::choosePixels(blocking.pixels, widest);
-  const int channelVec4s = conv::chooseChannelVec4s(blocking.channelVec4s, g.inChannels);
+  const ConvBlocking chosen = conv::directBlocking(blocking, widest, g.kernel[0]);
+  const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   for (std::size_t axis = 0; axis < 3; ++axis) {
     size[axis] = 1;
     for (const conv::Phase& p : phases[axis]) {
@@ -115,8 +115,8 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
 
 void weightGradient(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& dy, const Tensor& dw,
                     ConvBlocking blocking) {
-  const int pixels = conv::choosePixels(blocking.pixels, g.output[2]);
-  const int channelVec4s = conv::chooseChannelVec4s(blocking.channelVec4s, g.outChannels);
+  const ConvBlocking chosen = conv::weightGradBlocking(blocking, g.output[2], g.outChannels);
+  const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t paddedWidth = conv::roundUp(g.output[2], pixels);
   const Int3 size{(g.output[0] - 1) * g.stride + g.kernel[0], (g.output[1] - 1) * g.stride + g.kernel[1],
                   (paddedWidth - 1) * g.stride + g.kernel[2]};

@@ -38,22 +38,35 @@ void sumPartials(Stream& stream, const Tensor& partial, int64_t parts, const Ten
 
 int64_t roundUp(int64_t value, int64_t multiple) { return (value + multiple - 1) / multiple * multiple; }
 
-int choosePixels(int requested, int64_t width) {
-  if (requested != 0) {
-    if (requested < 1 || requested > 16)
-      throw Error("conv: blocking of " + std::to_string(requested) + " pixels, expected 1..16");
-    return requested;
-  }
-  return static_cast<int>(std::bit_ceil(static_cast<uint64_t>(std::min<int64_t>(width, 8))));
+namespace {
+
+void requireBlocking(const ConvBlocking& requested) {
+  if (requested.pixels < 0 || requested.pixels > 16)
+    throw Error("conv: blocking of " + std::to_string(requested.pixels) + " pixels, expected 1..16 (0: automatic)");
+  if (requested.channelVec4s < 0 || requested.channelVec4s > 4)
+    throw Error("conv: blocking of " + std::to_string(requested.channelVec4s) +
+                " channel vec4s, expected 1..4 (0: automatic)");
 }
 
-int chooseChannelVec4s(int requested, int64_t channels) {
-  if (requested != 0) {
-    if (requested < 1 || requested > 4)
-      throw Error("conv: blocking of " + std::to_string(requested) + " channel vec4s, expected 1..4");
-    return requested;
-  }
-  return channels <= 4 ? 1 : 2;
+// No more pixels per invocation than the row has (rounded up to a power of two).
+int fitPixels(int pixels, int64_t width) {
+  return static_cast<int>(std::min<uint64_t>(static_cast<uint64_t>(pixels), std::bit_ceil(static_cast<uint64_t>(width))));
+}
+
+}  // namespace
+
+ConvBlocking directBlocking(ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth) {
+  requireBlocking(requested);
+  // Measured on lavapipe (docs/convolution.md): 8 pixels x 4 channels for 2D kernels, 16 x 4 for 3D.
+  const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(kernelDepth > 1 ? 16 : 8, gridWidth);
+  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : 1};
+}
+
+ConvBlocking weightGradBlocking(ConvBlocking requested, int64_t outWidth, int64_t outChannels) {
+  requireBlocking(requested);
+  // Measured on lavapipe: 4 pixels x 8 channels (72 accumulators for a 3x3 kernel).
+  const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(4, outWidth);
+  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : (outChannels <= 4 ? 1 : 2)};
 }
 
 Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size) {

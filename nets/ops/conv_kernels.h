@@ -8,9 +8,10 @@
 
 namespace smokesvd::ops::conv {
 
-// Block sizes actually used (ConvBlocking with every 0 replaced by a choice).
-int choosePixels(int requested, int64_t width);
-int chooseChannelVec4s(int requested, int64_t channels);
+// Block sizes actually used: the request with every 0 replaced by the default for the shape. Throws
+// Error for a request out of range.
+ConvBlocking directBlocking(ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth);
+ConvBlocking weightGradBlocking(ConvBlocking requested, int64_t outWidth, int64_t outChannels);
 int64_t roundUp(int64_t value, int64_t multiple);
 
 // A zero-padded copy [N, C, size] of an [N, C, D, H, W] tensor placed at `low`; size[2] is rounded up to
