@@ -10,6 +10,7 @@
 #include "nets/modules/activation.h"
 #include "nets/modules/group_norm.h"
 #include "nets/modules/linear.h"
+#include "nets/modules/res_block.h"
 #include "nets/modules/weights.h"
 #include "runtime/error.h"
 #include "tests/harness/compare.h"
@@ -215,6 +216,81 @@ TEST_F(ModulesTest, WeightsRoundTripAndMismatchesAreListed) {
     EXPECT_NE(message.find("4 unexpected: scale, body.0.weight, body.0.bias, body.2.weight"), std::string::npos)
         << message;
   }
+}
+
+// A DDPM-style tree: temb.dense (ModuleList of Linear), conv_in, down[i].block[j] (ResBlocks, the second
+// with a 1x1 shortcut, the last without timestep embedding). Expected names and shapes as printed by
+// PyTorch's state_dict() for the same torch.nn tree.
+class Down : public Module {
+ public:
+  explicit Down(std::vector<std::shared_ptr<ResBlock>> blocks) {
+    auto list = addChild("block", std::make_shared<ModuleList>());
+    for (auto& block : blocks) list->add(block);
+  }
+};
+
+TEST_F(ModulesTest, ResBlockTreeNamesMatchPyTorch) {
+  class Embedding : public Module {
+   public:
+    explicit Embedding(Context& context) {
+      auto dense = addChild("dense", std::make_shared<ModuleList>());
+      dense->add(std::make_shared<Linear>(context, 4, 8));
+      dense->add(std::make_shared<Linear>(context, 8, 8));
+    }
+  };
+  class Net : public Module {
+   public:
+    explicit Net(Context& context) {
+      addChild("temb", std::make_shared<Embedding>(context));
+      addChild("conv_in", std::make_shared<Conv>(context, 2, 3, 4, 3, ConvOptions{1, 1}));
+      auto down = addChild("down", std::make_shared<ModuleList>());
+      const auto block = [&](int64_t in, int64_t out, int64_t temb) {
+        return std::make_shared<ResBlock>(
+            context, ResBlockOptions{.inChannels = in, .outChannels = out, .tembChannels = temb, .groups = 2});
+      };
+      down->add(std::make_shared<Down>(std::vector{block(4, 4, 8), block(4, 6, 8)}));
+      down->add(std::make_shared<Down>(std::vector{block(6, 6, 0)}));
+    }
+  };
+  const std::vector<std::pair<std::string, Shape>> expected = {
+      {"temb.dense.0.weight", {8, 4}}, {"temb.dense.0.bias", {8}}, {"temb.dense.1.weight", {8, 8}},
+      {"temb.dense.1.bias", {8}}, {"conv_in.weight", {4, 3, 3, 3}}, {"conv_in.bias", {4}},
+      {"down.0.block.0.norm1.weight", {4}}, {"down.0.block.0.norm1.bias", {4}},
+      {"down.0.block.0.conv1.weight", {4, 4, 3, 3}}, {"down.0.block.0.conv1.bias", {4}},
+      {"down.0.block.0.temb_proj.weight", {4, 8}}, {"down.0.block.0.temb_proj.bias", {4}},
+      {"down.0.block.0.norm2.weight", {4}}, {"down.0.block.0.norm2.bias", {4}},
+      {"down.0.block.0.conv2.weight", {4, 4, 3, 3}}, {"down.0.block.0.conv2.bias", {4}},
+      {"down.0.block.1.norm1.weight", {4}}, {"down.0.block.1.norm1.bias", {4}},
+      {"down.0.block.1.conv1.weight", {6, 4, 3, 3}}, {"down.0.block.1.conv1.bias", {6}},
+      {"down.0.block.1.temb_proj.weight", {6, 8}}, {"down.0.block.1.temb_proj.bias", {6}},
+      {"down.0.block.1.norm2.weight", {6}}, {"down.0.block.1.norm2.bias", {6}},
+      {"down.0.block.1.conv2.weight", {6, 6, 3, 3}}, {"down.0.block.1.conv2.bias", {6}},
+      {"down.0.block.1.nin_shortcut.weight", {6, 4, 1, 1}}, {"down.0.block.1.nin_shortcut.bias", {6}},
+      {"down.1.block.0.norm1.weight", {6}}, {"down.1.block.0.norm1.bias", {6}},
+      {"down.1.block.0.conv1.weight", {6, 6, 3, 3}}, {"down.1.block.0.conv1.bias", {6}},
+      {"down.1.block.0.norm2.weight", {6}}, {"down.1.block.0.norm2.bias", {6}},
+      {"down.1.block.0.conv2.weight", {6, 6, 3, 3}}, {"down.1.block.0.conv2.bias", {6}},
+  };
+  Net net(context());
+  const NamedParameters named = net.namedParameters();
+  ASSERT_EQ(named.size(), expected.size());
+  for (std::size_t i = 0; i < named.size(); ++i) {
+    EXPECT_EQ(named[i].first, expected[i].first);
+    EXPECT_EQ(named[i].second->value.shape(), expected[i].second) << named[i].first;
+  }
+}
+
+TEST_F(ModulesTest, ResBlock3dRunsAndChecksItsEmbedding) {
+  ResBlock block(context(), {.dims = 3, .inChannels = 2, .outChannels = 4, .groups = 2});
+  block.initialize(1);
+  Stream stream(context());
+  Tape tape(stream);
+  const Var x = variable(randomTensor(context(), {1, 2, 3, 4, 5}, 1));
+  EXPECT_EQ(block.forward(tape, x)->value.shape(), (Shape{1, 4, 3, 4, 5}));
+  EXPECT_THROW(block.forward(tape, x, variable(randomTensor(context(), {1, 8}, 2))), Error);
+  ResBlock withEmbedding(context(), {.inChannels = 2, .tembChannels = 8, .groups = 2});
+  EXPECT_THROW(withEmbedding.forward(tape, variable(randomTensor(context(), {1, 2, 4, 4}, 3))), Error);
+  EXPECT_THROW(ResBlock(context(), {.inChannels = 6, .outChannels = 4, .groups = 4}), Error);
 }
 
 }  // namespace
