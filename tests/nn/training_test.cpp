@@ -5,6 +5,7 @@
 #include "nets/functional/losses.h"
 #include "nets/modules/activation.h"
 #include "nets/modules/linear.h"
+#include "nets/modules/res_block.h"
 #include "nets/optim/adam.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
@@ -94,6 +95,46 @@ TEST_F(TrainingTest, ResubmittingEqualsRecordingEachStep) {
   const auto a = resubmitted->namedParameters(), b = rerecorded->namedParameters();
   for (std::size_t i = 0; i < a.size(); ++i)
     EXPECT_EQ(a[i].second->value.download(), b[i].second->value.download()) << a[i].first;
+}
+
+// Conv -> ResBlock (GroupNorm, SiLU, convolutions, identity shortcut) -> SiLU -> Conv.
+std::shared_ptr<Sequential> convNet(Context& context, uint64_t seed) {
+  auto net = std::make_shared<Sequential>();
+  net->add(std::make_shared<Conv>(context, 2, 2, 8, 3, ConvOptions{1, 1}));
+  net->add(std::make_shared<ResBlock>(context, ResBlockOptions{.inChannels = 8, .groups = 2}));
+  net->add(std::make_shared<Activation>(ActivationKind::SiLU));
+  net->add(std::make_shared<Conv>(context, 2, 8, 1, 3, ConvOptions{1, 1}));
+  net->initialize(seed);
+  return net;
+}
+
+// A conv net learns what a differently initialised copy of itself computes on a fixed batch of images.
+TEST_F(TrainingTest, ConvNetFitsATeacherOnAFixedBatch) {
+  const Var x = variable(randomTensor(context(), {4, 2, 8, 8}, 3));
+  Var target;
+  {
+    Stream stream(context());
+    Tape tape(stream);
+    NoGrad inference(tape);
+    target = convNet(context(), 100)->forward(tape, x);
+    stream.submit();
+  }
+  auto net = convNet(context(), 5);
+  optim::Adam adam(context(), net->namedParameters(),
+                   optim::AdamOptions::adamW(optim::LrSchedule::cosine(3e-2, 100, 3e-3, 10), 1e-4));
+  Stream stream(context());
+  Tape tape(stream);
+  const Var loss = fn::mseLoss(tape, net->forward(tape, x), target);
+  tape.backward(loss);
+  adam.step(stream);
+  float first = 0;
+  for (int step = 0; step < 100; ++step) {
+    stream.submit();
+    if (step == 0) first = loss->value.download()[0];
+  }
+  const float last = loss->value.download()[0];
+  EXPECT_GT(first, 0.1f);
+  EXPECT_LT(last, first / 100) << "loss went from " << first << " to " << last;
 }
 
 }  // namespace
