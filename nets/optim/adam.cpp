@@ -1,6 +1,5 @@
 #include "nets/optim/adam.h"
 
-#include <cmath>
 
 #include "nets/ops/elementwise.h"
 #include "runtime/error.h"
@@ -10,7 +9,6 @@ namespace {
 
 constexpr std::array<uint32_t, 3> kWorkgroup{128, 1, 1};
 constexpr int64_t kScalarCount = 8;
-constexpr int64_t kMaxExactSteps = int64_t{1} << 24;  // the counter is a float
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw Error("Adam: " + what);
@@ -93,12 +91,18 @@ void Adam::step(Stream& stream, const GradClip* clip) const {
 int64_t Adam::steps() const { return static_cast<int64_t>(scalars_.download()[0]); }
 
 void Adam::setSteps(int64_t steps) {
-  require(steps >= 0 && steps <= kMaxExactSteps,
+  require(steps >= 0 && steps <= kMaxSteps,
           "the step counter must be in [0, 2^24], got " + std::to_string(steps));
   std::vector<float> values(kScalarCount, 0.0f);
   values[0] = static_cast<float>(steps);
-  values[5] = static_cast<float>(1 - std::pow(options_.beta1, static_cast<double>(steps)));
-  values[6] = static_cast<float>(1 - std::pow(options_.beta2, static_cast<double>(steps)));
+  // The bias corrections c = 1 - beta^t by the GPU's float recurrence (optimizer_step.comp), replayed
+  // exactly, so a resumed run continues bit for bit.
+  const auto oneMinusBeta1 = static_cast<float>(1 - options_.beta1);
+  const auto oneMinusBeta2 = static_cast<float>(1 - options_.beta2);
+  for (int64_t t = 0; t < steps; ++t) {
+    values[5] = values[5] + oneMinusBeta1 * (1.0f - values[5]);
+    values[6] = values[6] + oneMinusBeta2 * (1.0f - values[6]);
+  }
   scalars_.upload(values);
 }
 

@@ -39,6 +39,8 @@ struct AdamOptions {
 
 class Adam {
  public:
+  static constexpr int64_t kMaxSteps = int64_t{1} << 24;  // the GPU counter is a float, exact up to here
+
   // The moments start at zero and the step counter at 0. Parameters must require a gradient.
   Adam(Context& context, NamedParameters parameters, AdamOptions options = {});
 
@@ -49,7 +51,7 @@ class Adam {
 
   // Steps taken so far (read back; the GPU holds the counter).
   int64_t steps() const;
-  // Sets the counter, e.g. when resuming from a checkpoint. Exact up to 2^24 steps.
+  // Sets the counter, e.g. when resuming from a checkpoint; 0 <= steps <= kMaxSteps.
   void setSteps(int64_t steps);
 
   // The optimiser's state by name: "<parameter>.exp_avg" and "<parameter>.exp_avg_sq" per parameter.

@@ -12,7 +12,8 @@
 // state[5] = c1 = 1 - beta1^t, state[6] = c2 = 1 - beta2^t, the bias corrections, kept by the recurrence
 //   c(t) = c(t-1) + (1 - beta) (1 - c(t-1)),  c(0) = 0
 // which needs only 1 - beta (passed from double) and loses no accuracy with t, where 1 - pow(beta, t) in
-// float would lose about t * 1e-8 relative through the rounding of beta alone.
+// float would lose about t * 1e-8 relative through the rounding of beta alone. The recurrence is `precise`
+// (no fused multiply-add), so the host can replay it bit for bit when it sets the counter (Adam::setSteps).
 // state[2] = lr / c1                         (Adam's step size with the first-moment bias correction)
 // state[3] = sqrt(c2)                        (the second-moment bias correction, as a square root)
 // state[4] = 1 - lr * decoupled_decay        (AdamW's multiplicative weight decay; 1 for Adam)
@@ -47,8 +48,8 @@ float scheduled_lr(float s) {
 void main() {
   const float t = state[0] + 1.0;
   const float lr = scheduled_lr(t - 1.0);
-  const float c1 = state[5] + one_minus_beta1 * (1.0 - state[5]);
-  const float c2 = state[6] + one_minus_beta2 * (1.0 - state[6]);
+  precise const float c1 = state[5] + one_minus_beta1 * (1.0 - state[5]);
+  precise const float c2 = state[6] + one_minus_beta2 * (1.0 - state[6]);
   state[0] = t;
   state[1] = lr;
   state[2] = lr / c1;
