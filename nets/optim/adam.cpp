@@ -1,5 +1,7 @@
 #include "nets/optim/adam.h"
 
+#include <cmath>
+
 
 #include "nets/ops/elementwise.h"
 #include "runtime/error.h"
@@ -51,10 +53,10 @@ Adam::Adam(Context& context, NamedParameters parameters, AdamOptions options)
 
 void Adam::step(Stream& stream, const GradClip* clip) const {
   struct {
-    float baseLr, oneMinusBeta1, oneMinusBeta2, decoupledDecay, warmup, stepSize, gamma, cosineSteps, minLr;
+    float baseLr, logBeta1, logBeta2, decoupledDecay, warmup, stepSize, gamma, cosineSteps, minLr;
   } stepPush{static_cast<float>(options_.schedule.baseLr),
-             static_cast<float>(1 - options_.beta1),
-             static_cast<float>(1 - options_.beta2),
+             static_cast<float>(std::log(options_.beta1)),
+             static_cast<float>(std::log(options_.beta2)),
              options_.decoupledWeightDecay ? static_cast<float>(options_.weightDecay) : 0.0f,
              static_cast<float>(options_.schedule.warmupSteps),
              static_cast<float>(options_.schedule.stepSize),
@@ -95,14 +97,6 @@ void Adam::setSteps(int64_t steps) {
           "the step counter must be in [0, 2^24], got " + std::to_string(steps));
   std::vector<float> values(kScalarCount, 0.0f);
   values[0] = static_cast<float>(steps);
-  // The bias corrections c = 1 - beta^t by the GPU's float recurrence (optimizer_step.comp), replayed
-  // exactly, so a resumed run continues bit for bit.
-  const auto oneMinusBeta1 = static_cast<float>(1 - options_.beta1);
-  const auto oneMinusBeta2 = static_cast<float>(1 - options_.beta2);
-  for (int64_t t = 0; t < steps; ++t) {
-    values[5] = values[5] + oneMinusBeta1 * (1.0f - values[5]);
-    values[6] = values[6] + oneMinusBeta2 * (1.0f - values[6]);
-  }
   scalars_.upload(values);
 }
 

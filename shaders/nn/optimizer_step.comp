@@ -9,11 +9,11 @@
 //         = base * gamma^floor(S / step_size)                     KIND 1, step decay
 //         = min_lr + (base - min_lr) (1 + cos(pi min(S, T) / T))/2 KIND 2, cosine over T = cosine_steps
 // state[1] = lr
-// state[5] = c1 = 1 - beta1^t, state[6] = c2 = 1 - beta2^t, the bias corrections, kept by the recurrence
-//   c(t) = c(t-1) + (1 - beta) (1 - c(t-1)),  c(0) = 0
-// which needs only 1 - beta (passed from double) and loses no accuracy with t, where 1 - pow(beta, t) in
-// float would lose about t * 1e-8 relative through the rounding of beta alone. The recurrence is `precise`
-// (no fused multiply-add), so the host can replay it bit for bit when it sets the counter (Adam::setSteps).
+// state[5] = c1 = 1 - beta1^t, state[6] = c2 = 1 - beta2^t, the bias corrections, computed from t alone as
+//   c = -expm1(t ln beta)
+// with ln beta passed from double and expm1 by its Taylor series where 1 - exp would cancel. In float,
+// 1 - pow(beta, t) would be off by about 1e-5 relative for beta = 0.999 (rounding beta alone), and a
+// running recurrence would stall short of 1.
 // state[2] = lr / c1                         (Adam's step size with the first-moment bias correction)
 // state[3] = sqrt(c2)                        (the second-moment bias correction, as a square root)
 // state[4] = 1 - lr * decoupled_decay        (AdamW's multiplicative weight decay; 1 for Adam)
@@ -24,8 +24,8 @@ layout(constant_id = 3) const int KIND = 0;
 layout(std430, binding = 0) buffer State { float state[]; };
 layout(push_constant) uniform Push {
   float base_lr;
-  float one_minus_beta1;
-  float one_minus_beta2;
+  float log_beta1;
+  float log_beta2;
   float decoupled_decay;
   float warmup;
   float step_size;
@@ -45,11 +45,20 @@ float scheduled_lr(float s) {
   return base_lr;
 }
 
+// 1 - e^x for x <= 0 without cancellation: the Taylor series of -expm1 near 0 (11 terms: below float
+// rounding for |x| <= 1/2), 1 - exp(x) further out.
+float one_minus_exp(float x) {
+  if (x < -0.5) return 1.0 - exp(x);
+  float series = 1.0;
+  for (int n = 11; n >= 2; --n) series = 1.0 + x / float(n) * series;
+  return -x * series;
+}
+
 void main() {
   const float t = state[0] + 1.0;
   const float lr = scheduled_lr(t - 1.0);
-  precise const float c1 = state[5] + one_minus_beta1 * (1.0 - state[5]);
-  precise const float c2 = state[6] + one_minus_beta2 * (1.0 - state[6]);
+  const float c1 = one_minus_exp(t * log_beta1);
+  const float c2 = one_minus_exp(t * log_beta2);
   state[0] = t;
   state[1] = lr;
   state[2] = lr / c1;
