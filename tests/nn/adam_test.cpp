@@ -50,7 +50,7 @@ class AdamTest : public GpuTest, public ::testing::WithParamInterface<Case> {};
 // parameters and both moments must follow the double reference after every step.
 TEST_P(AdamTest, TenStepsMatchDoubleReference) {
   const Case& c = GetParam();
-  const std::vector<Shape> shapes = {{7}, {3, 5}, {1}, {2, 3, 3, 3}};
+  const std::vector<Shape> shapes = {{7}, {3, 5}, {1}, {2, 3, 3, 3}, {4099}};  // the last spans 3 workgroups
   NamedParameters parameters;
   std::vector<AdamReference> references;
   for (std::size_t i = 0; i < shapes.size(); ++i) {
@@ -87,7 +87,8 @@ TEST_P(AdamTest, TenStepsMatchDoubleReference) {
       const auto state = adam.namedState();
       SCOPED_TRACE("step " + std::to_string(step + 1) + ", parameter " + parameters[i].first);
       EXPECT_TRUE(allClose(parameters[i].second->value, references[i].p, {2e-6, 2e-6}));
-      EXPECT_TRUE(allClose(state[2 * i].second, references[i].m, {1e-7, 1e-5}));
+      // m sums terms of up to |g| = 10 that may cancel: float rounding of those terms bounds its error.
+      EXPECT_TRUE(allClose(state[2 * i].second, references[i].m, {1e-6, 1e-5}));
       EXPECT_TRUE(allClose(state[2 * i + 1].second, references[i].v, {1e-9, 1e-5}));
     }
   }
