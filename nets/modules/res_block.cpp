@@ -19,8 +19,8 @@ ResBlock::ResBlock(Context& context, ResBlockOptions o) {
   dropout_ = addChild("dropout", std::make_shared<Dropout>(o.dropout, o.dropoutSeed));
   conv2_ = addChild("conv2", std::make_shared<Conv>(context, o.dims, out, out, 3, conv3));
   if (out != o.inChannels)
-    shortcut_ =
-        addChild("nin_shortcut", std::make_shared<Conv>(context, o.dims, o.inChannels, out, 1, ConvOptions{1, 0, true, o.init}));
+    shortcut_ = addChild("nin_shortcut",
+                         std::make_shared<Conv>(context, o.dims, o.inChannels, out, 1, ConvOptions{1, 0, true, o.init}));
 }
 
 Var ResBlock::forward(Tape& tape, const Var& x, const Var& temb) {

@@ -4,7 +4,8 @@
 
 namespace smokesvd::optim {
 
-Ema::Ema(Context& context, NamedParameters parameters, double decay) : parameters_(std::move(parameters)), decay_(decay) {
+Ema::Ema(Context& context, NamedParameters parameters, double decay)
+    : parameters_(std::move(parameters)), decay_(decay) {
   if (!(decay >= 0 && decay <= 1)) throw Error("EMA: decay must be in [0, 1], got " + std::to_string(decay));
   Stream copy(context);
   for (const auto& [name, parameter] : parameters_) {

@@ -202,7 +202,8 @@ TEST_F(ModulesTest, WeightsRoundTripAndMismatchesAreListed) {
   } catch (const Error& e) {
     const std::string message = e.what();
     for (const char* expected : {"head.safetensors does not match", "4 with a different shape",
-                                 "scale (expected [4], file has [3])", "body.2.weight (expected [2, 4], file has [2, 3])"})
+                                 "scale (expected [4], file has [3])",
+                                 "body.2.weight (expected [2, 4], file has [2, 3])"})
       EXPECT_NE(message.find(expected), std::string::npos) << message;
   }
   Sequential other;

@@ -96,7 +96,8 @@ TEST_F(OptimTest, EmaFollowsDoubleReference) {
   std::vector<std::vector<double>> shadows;
   for (std::size_t i = 0; i < shapes.size(); ++i) {
     std::vector<float> values;
-    parameters.emplace_back("layer.p" + std::to_string(i), variable(randomTensor(context(), shapes[i], i, -1, 1, &values), true));
+    Var p = variable(randomTensor(context(), shapes[i], i, -1, 1, &values), true);
+    parameters.emplace_back("layer.p" + std::to_string(i), p);
     shadows.push_back(toDouble(values));
   }
   optim::Ema ema(context(), parameters, decay);

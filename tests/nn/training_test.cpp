@@ -30,7 +30,8 @@ Batch regressionBatch(Context& context, int64_t samples) {
     out[1] = std::cos(in[3]) - 0.5f * in[0];
     out[2] = in[1] * in[1] - in[2] * in[3];
   }
-  return {variable(Tensor::fromHost(context, {samples, 4}, x)), variable(Tensor::fromHost(context, {samples, 3}, y))};
+  return {variable(Tensor::fromHost(context, {samples, 4}, x)),
+          variable(Tensor::fromHost(context, {samples, 3}, y))};
 }
 
 std::shared_ptr<Sequential> mlp(Context& context) {
@@ -52,7 +53,8 @@ TEST_F(TrainingTest, MlpFitsAFixedBatchFromOneRecording) {
   const Batch batch = regressionBatch(context(), 32);
   auto net = mlp(context());
   const NamedParameters parameters = net->namedParameters();
-  optim::Adam adam(context(), parameters, optim::AdamOptions::adamW(optim::LrSchedule::cosine(3e-2, 150, 3e-3, 10), 1e-4));
+  optim::Adam adam(context(), parameters,
+                   optim::AdamOptions::adamW(optim::LrSchedule::cosine(3e-2, 150, 3e-3, 10), 1e-4));
 
   Stream stream(context());
   Tape tape(stream);

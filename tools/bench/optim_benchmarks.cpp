@@ -42,7 +42,8 @@ void adam(BenchContext& b) {
       clip.record(s, named);
       adamW.step(s, &clip);
     });
-    b.measure("optim/grad-norm", shape, 4.0 * kParameters, 2.0 * kParameters, [&](Stream& s) { clip.record(s, named); });
+    b.measure("optim/grad-norm", shape, 4.0 * kParameters, 2.0 * kParameters,
+              [&](Stream& s) { clip.record(s, named); });
     const optim::Ema ema(b.context(), named, 0.999);
     b.measure("optim/ema", shape, 12.0 * kParameters, 3.0 * kParameters, [&](Stream& s) { ema.update(s); });
   }
