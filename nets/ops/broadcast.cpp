@@ -2,16 +2,15 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 
 #include "runtime/error.h"
 
 namespace smokesvd::ops {
 namespace {
 
-constexpr uint32_t kWorkgroupSize = 64;
-constexpr uint32_t kMaxColumnGroups = 1024;  // the kernel strides over longer rows
-constexpr uint64_t kMaxRows = 65535;         // workgroup count limit of the y and z dispatch axes
-constexpr int kCopy = 4;                     // shaders/nn/broadcast_binary.comp: y = a
+constexpr uint32_t kWorkgroupSize = 128;
+constexpr int kCopy = 4;  // OP of shaders/nn/broadcast_binary.comp: y = a
 
 Shape alignedTo(const Shape& shape, std::size_t rank) {
   Shape result(rank - shape.size(), 1);
@@ -57,26 +56,30 @@ Plan plan(const Shape& a, const Shape& b, const Shape& out) {
   }
   result.innerA = runs[3].fullA;
   result.innerB = runs[3].fullB;
-  if (result.extents[2] > kMaxRows || result.extents[0] * result.extents[1] > kMaxRows)
-    throw Error("broadcast of " + toString(a) + " and " + toString(b) + ": more rows than one dispatch can hold");
   return result;
 }
 
 void dispatch(Stream& stream, int op, const Tensor& a, const Tensor& b, const Tensor& y) {
   const Plan p = plan(a.shape(), b.shape(), y.shape());
+  const bool fullA = a.numel() == y.numel(), fullB = b.numel() == y.numel();
   const bool vec4 = p.extents[3] % 4 == 0;
+  const int inner = (p.innerA ? 1 : 0) | (p.innerB ? 2 : 0);
   const Kernel& kernel = stream.kernel("nn/broadcast_binary", {kWorkgroupSize, 1, 1},
-                                       {op, p.innerA ? 1 : 0, p.innerB ? 1 : 0, vec4 ? 1 : 0});
+                                       {op, inner, fullA ? 1 : 0, fullB ? 1 : 0, vec4 ? 1 : 0});
   const auto u32 = [](uint64_t v) { return static_cast<uint32_t>(v); };
+  const FastDivisor byD1 = fastDivisor(u32(p.extents[1])), byD2 = fastDivisor(u32(p.extents[2])),
+                    byD3 = fastDivisor(u32(p.extents[3]));
   struct {
-    uint32_t D0, D1, D2, D3, sa0, sa1, sa2, sb0, sb1, sb2;
-  } push{u32(p.extents[0]),  u32(p.extents[1]),  u32(p.extents[2]),  u32(p.extents[3]),  u32(p.stridesA[0]),
-         u32(p.stridesA[1]), u32(p.stridesA[2]), u32(p.stridesB[0]), u32(p.stridesB[1]), u32(p.stridesB[2])};
-  const uint64_t columnGroups = ((p.extents[3] + 3) / 4 + kWorkgroupSize - 1) / kWorkgroupSize;
-  stream.dispatch(kernel,
-                  {vec4 && p.innerA ? asVec4(a) : Arg(a), vec4 && p.innerB ? asVec4(b) : Arg(b), y}, push,
-                  {u32(std::min<uint64_t>(columnGroups, kMaxColumnGroups)), u32(p.extents[2]),
-                   u32(p.extents[0] * p.extents[1])});
+    uint32_t n, D1, D2, D3;
+    FastDivisor byD1, byD2, byD3;
+    uint32_t sa0, sa1, sa2, sb0, sb1, sb2;
+  } push{u32(y.numel()), u32(p.extents[1]), u32(p.extents[2]), u32(p.extents[3]), byD1, byD2, byD3,
+         u32(p.stridesA[0]), u32(p.stridesA[1]), u32(p.stridesA[2]), u32(p.stridesB[0]), u32(p.stridesB[1]),
+         u32(p.stridesB[2])};
+  // Operands read whole vec4 texels where they are y-shaped, or run along an aligned last axis.
+  const auto bind = [&](const Tensor& t, bool full, bool runs) { return full || (vec4 && runs) ? asVec4(t) : Arg(t); };
+  stream.dispatchFlat(kernel, {bind(a, fullA, p.innerA), bind(b, fullB, p.innerB), y}, push,
+                      (static_cast<uint64_t>(y.numel()) + 3) / 4);
 }
 
 }  // namespace
@@ -91,6 +94,13 @@ Shape broadcastShape(const char* op, const Shape& a, const Shape& b) {
     result[axis] = alignedA[axis] == 1 ? alignedB[axis] : alignedA[axis];
   }
   return result;
+}
+
+FastDivisor fastDivisor(uint32_t d) {
+  if (d == 0) throw Error("fast divisor: division by zero");
+  const uint32_t shift = static_cast<uint32_t>(std::bit_width(d) - 1);
+  if ((d & (d - 1)) == 0) return {0, shift};
+  return {static_cast<uint32_t>((uint64_t{1} << (32 + shift)) / d + 1), shift};
 }
 
 std::vector<int> broadcastAxes(const Shape& operand, const Shape& output) {

@@ -4,8 +4,7 @@
 // against N,C,H,W (or N,C,D,H,W).
 //
 // Supported: patterns whose axes, after dropping size-1 output axes and merging neighbours that
-// broadcast alike, form at most 4 runs, with at most 65535 rows in the second-to-last run and in the
-// product of the others. Anything else is an Error naming the shapes.
+// broadcast alike, form at most 4 runs (every case above). Anything else is an Error naming the shapes.
 #pragma once
 
 #include <vector>
@@ -26,5 +25,12 @@ std::vector<int> broadcastAxes(const Shape& operand, const Shape& output);
 void broadcastBinary(Stream& stream, BinaryOp op, const Tensor& a, const Tensor& b, const Tensor& y);
 // y = x repeated to y's shape (x must broadcast to it).
 void expand(Stream& stream, const Tensor& x, const Tensor& y);
+
+// (multiplier, shift) for dividing by d in a shader without integer division (shaders/nn/broadcast_index.glsl).
+struct FastDivisor {
+  uint32_t multiplier = 0;
+  uint32_t shift = 0;
+};
+FastDivisor fastDivisor(uint32_t d);
 
 }  // namespace smokesvd::ops

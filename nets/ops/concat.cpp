@@ -1,15 +1,12 @@
 #include "nets/ops/concat.h"
 
-#include <algorithm>
-
+#include "nets/ops/broadcast.h"
 #include "runtime/error.h"
 
 namespace smokesvd::ops {
 namespace {
 
-constexpr uint32_t kWorkgroupSize = 64;
-constexpr uint64_t kMaxColumnGroups = 1024;  // the kernel strides over longer runs
-constexpr int64_t kMaxSamples = 65535;       // one workgroup row per sample
+constexpr uint32_t kWorkgroupSize = 128;
 
 // Elements per channel: the product of the axes after 1.
 int64_t spatial(const Shape& shape) {
@@ -53,21 +50,20 @@ void copyChannels(Stream& stream, const Tensor& source, int64_t from, const Tens
     throw Error("channel copy of " + std::to_string(count) + " channels from " + std::to_string(from) + " of " +
                 toString(source.shape()) + " to " + std::to_string(to) + " of " + toString(destination.shape()) +
                 ": out of range or shapes differ outside axis 1");
-  const int64_t samples = source.size(0);
-  if (count == 0 || samples == 0 || spatial(source.shape()) == 0) return;
-  if (samples > kMaxSamples) throw Error("channel copy: more than 65535 samples in " + toString(source.shape()));
   const int64_t s = spatial(source.shape());
+  const int64_t total = source.size(0) * count * s;
+  if (total == 0) return;
+  const auto u32 = [](int64_t v) { return static_cast<uint32_t>(v); };
   struct {
-    uint32_t srcRow, srcOffset, dstRow, dstOffset, length;
-  } push{static_cast<uint32_t>(source.size(1) * s), static_cast<uint32_t>(from * s),
-         static_cast<uint32_t>(destination.size(1) * s), static_cast<uint32_t>(to * s), static_cast<uint32_t>(count * s)};
+    uint32_t total, srcRow, srcOffset, dstRow, dstOffset, length;
+    FastDivisor byLength;
+  } push{u32(total), u32(source.size(1) * s), u32(from * s), u32(destination.size(1) * s), u32(to * s), u32(count * s),
+         fastDivisor(u32(count * s))};
   const bool vec4 = push.srcRow % 4 == 0 && push.srcOffset % 4 == 0 && push.dstRow % 4 == 0 &&
                     push.dstOffset % 4 == 0 && push.length % 4 == 0;
   const Kernel& kernel = stream.kernel("nn/concat_channels", {kWorkgroupSize, 1, 1}, {vec4 ? 1 : 0});
-  const uint64_t blocks = (static_cast<uint64_t>(push.length) + 3) / 4;
-  const uint64_t groups = (blocks + kWorkgroupSize - 1) / kWorkgroupSize;
-  stream.dispatch(kernel, {vec4 ? asVec4(source) : Arg(source), destination}, push,
-                  {static_cast<uint32_t>(std::min(groups, kMaxColumnGroups)), static_cast<uint32_t>(samples), 1});
+  stream.dispatchFlat(kernel, {vec4 ? asVec4(source) : Arg(source), destination}, push,
+                      (static_cast<uint64_t>(total) + 3) / 4);
 }
 
 void concatChannels(Stream& stream, std::span<const Tensor> inputs, const Tensor& y) {

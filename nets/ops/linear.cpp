@@ -1,6 +1,6 @@
 #include "nets/ops/linear.h"
 
-#include <algorithm>
+#include <array>
 
 #include "nets/ops/reduce_axes.h"
 #include "runtime/error.h"
@@ -8,9 +8,10 @@
 namespace smokesvd::ops {
 namespace {
 
-constexpr uint32_t kTileRows = 4;     // rows of C per invocation (shaders/nn/matmul.comp)
-constexpr uint32_t kTileColumns = 8;  // columns of C per invocation
-constexpr uint32_t kWorkgroupSize = 64;
+constexpr uint32_t kTileRows = 8;     // rows of C per invocation (shaders/nn/matmul.comp)
+constexpr uint32_t kTileColumns = 4;  // columns of C per invocation
+// 8 x 8 invocations: 8 SIMD lanes along columns, sharing rows; a workgroup covers 64 rows x 32 columns.
+constexpr std::array<uint32_t, 3> kWorkgroup{8, 8, 1};
 
 uint32_t tiles(int64_t extent, uint32_t tile) { return static_cast<uint32_t>((extent + tile - 1) / tile); }
 
@@ -55,16 +56,12 @@ void matmul(Stream& stream, const Tensor& a, bool transposeA, const Tensor& b, b
   // Each operand is read as vec4 texels when its fastest extent is a multiple of 4.
   const bool vec4A = (transposeA ? M : K) % 4 == 0;
   const bool vec4B = (transposeB ? K : N) % 4 == 0;
-  const uint32_t columnTiles = tiles(N, kTileColumns);
-  const uint32_t width = std::min<uint32_t>(kWorkgroupSize, (columnTiles + 7) / 8 * 8);
-  const std::array<uint32_t, 3> workgroup{width, kWorkgroupSize / width, 1};
-  const Kernel& kernel = stream.kernel("nn/matmul", workgroup,
+  const Kernel& kernel = stream.kernel("nn/matmul", kWorkgroup,
                                        {transposeA ? 1 : 0, transposeB ? 1 : 0, vec4A ? 1 : 0, vec4B ? 1 : 0,
                                         bias ? 1 : 0});
   struct { uint32_t M, N, K; } push{static_cast<uint32_t>(M), static_cast<uint32_t>(N), static_cast<uint32_t>(K)};
-  const uint32_t rowTiles = tiles(M, kTileRows);
   stream.dispatch(kernel, {vec4A ? asVec4(a) : Arg(a), vec4B ? asVec4(b) : Arg(b), bias ? *bias : a, c}, push,
-                  {tiles(columnTiles, workgroup[0]), tiles(rowTiles, workgroup[1]), 1});
+                  {tiles(tiles(N, kTileColumns), kWorkgroup[0]), tiles(tiles(M, kTileRows), kWorkgroup[1]), 1});
 }
 
 void linearForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias, const Tensor& y) {

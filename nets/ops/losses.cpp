@@ -1,5 +1,6 @@
 #include "nets/ops/losses.h"
 
+#include "nets/ops/broadcast.h"
 #include "nets/ops/elementwise.h"
 #include "nets/ops/reduce_axes.h"
 #include "runtime/error.h"
@@ -19,8 +20,12 @@ void lossGradient(Stream& stream, Form form, const Tensor& g, const Tensor* coef
                   const Tensor* a, const Tensor* b, const Tensor& grad) {
   if (g.numel() != 1) throw Error("loss backward: the upstream gradient must be one element, got " + toString(g.shape()));
   if (form != Form::Coefficient) requireSameShape("loss backward", {a, b, &grad});
-  struct { uint32_t n, segment; float scale; } push{static_cast<uint32_t>(grad.numel()), static_cast<uint32_t>(segment),
-                                                    scale};
+  struct {
+    uint32_t n, segment;
+    FastDivisor bySegment;
+    float scale;
+  } push{static_cast<uint32_t>(grad.numel()), static_cast<uint32_t>(segment),
+         fastDivisor(static_cast<uint32_t>(segment)), scale};
   const Kernel& kernel = stream.kernel("nn/loss_backward", kWorkgroup,
                                        {static_cast<int32_t>(form), coefficients ? 1 : 0});
   stream.dispatchFlat(kernel, {g, coefficients ? *coefficients : g, a ? asVec4(*a) : Arg(g), b ? asVec4(*b) : Arg(g), grad},

@@ -3,9 +3,10 @@
 //   A(m, k) = A[m*K + k] (A_KM = 0: A is [M, K]) or A[k*M + m] (A_KM = 1: A is [K, M]),
 //   B(k, n) = B[k*N + n] (B_NK = 0: B is [K, N]) or B[n*K + k] (B_NK = 1: B is [N, K], like a PyTorch
 //   linear weight [out, in]). bias only with HAS_BIAS.
-// Register blocking: invocation (x, y) computes the 4 x 8 tile of C at rows m0 = 4y.., columns n0 = 8x..;
-// lanes along x share rows (every lane fetches the same A texels). K runs in chunks of 4: a 4 x 4 block
-// of A and a 4 x 8 block of B per chunk, then a tail of K % 4 single steps.
+// Register blocking: invocation (x, y) computes the 8 x 4 tile of C at rows m0 = 8y.., columns n0 = 4x..;
+// the SIMD lanes run along x, so they share rows and every lane fetches the same A texels (cache hits),
+// which is why the tile is tall. K runs in chunks of 4 (an 8 x 4 block of A and a 4 x 4 block of B),
+// then a tail of K % 4 single steps.
 // A_VEC4 / B_VEC4: the operand's fastest extent (K or M for A, N or K for B) is a multiple of 4, so it is
 // bound as vec4 texels; otherwise as one float per texel. Reads past M or N are clamped to the last
 // row or column and their results discarded.
@@ -24,95 +25,89 @@ layout(push_constant) uniform Push { uint M, N, K; };
 
 uint m0, n0;
 
-float elementA(uint index) { return A_VEC4 ? texelFetch(A, int(index / 4u))[index % 4u] : texelFetch(A, int(index)).x; }
-float elementB(uint index) { return B_VEC4 ? texelFetch(B, int(index / 4u))[index % 4u] : texelFetch(B, int(index)).x; }
+// Single elements, for operands bound one float per texel. (The K tail also reaches them for a vec4
+// operand that is contiguous along k, but then K % 4 == 0 and the tail is empty.)
+float elementA(uint index) { return texelFetch(A, int(index)).x; }
+float elementB(uint index) { return texelFetch(B, int(index)).x; }
 uint row(uint i) { return min(m0 + i, M - 1u); }
 uint column(uint j) { return min(n0 + j, N - 1u); }
 
-// A(m0..m0+3, k)
-vec4 columnOfA(uint k) {
-  if (A_KM == 1 && A_VEC4) return texelFetch(A, int((k * M + m0) / 4u));
-  if (A_KM == 1) return vec4(elementA(k * M + row(0u)), elementA(k * M + row(1u)), elementA(k * M + row(2u)), elementA(k * M + row(3u)));
-  return vec4(elementA(row(0u) * K + k), elementA(row(1u) * K + k), elementA(row(2u) * K + k), elementA(row(3u) * K + k));
+// A(m0+4h .. m0+4h+3, k) for half h
+vec4 columnOfA(uint k, uint h) {
+  if (A_KM == 1 && A_VEC4) return texelFetch(A, int((k * M + min(m0 + 4u * h, M - 4u)) / 4u));
+  if (A_KM == 1)
+    return vec4(elementA(k * M + row(4u * h)), elementA(k * M + row(4u * h + 1u)), elementA(k * M + row(4u * h + 2u)),
+                elementA(k * M + row(4u * h + 3u)));
+  return vec4(elementA(row(4u * h) * K + k), elementA(row(4u * h + 1u) * K + k), elementA(row(4u * h + 2u) * K + k),
+              elementA(row(4u * h + 3u) * K + k));
 }
 
-// B(k, n0..n0+3) and B(k, n0+4..n0+7)
-void rowOfB(uint k, out vec4 low, out vec4 high) {
-  if (B_NK == 0 && B_VEC4) {
-    low = texelFetch(B, int((k * N + n0) / 4u));
-    high = texelFetch(B, int((k * N + min(n0 + 4u, N - 4u)) / 4u));
-  } else if (B_NK == 0) {
-    low = vec4(elementB(k * N + column(0u)), elementB(k * N + column(1u)), elementB(k * N + column(2u)), elementB(k * N + column(3u)));
-    high = vec4(elementB(k * N + column(4u)), elementB(k * N + column(5u)), elementB(k * N + column(6u)), elementB(k * N + column(7u)));
-  } else {
-    low = vec4(elementB(column(0u) * K + k), elementB(column(1u) * K + k), elementB(column(2u) * K + k), elementB(column(3u) * K + k));
-    high = vec4(elementB(column(4u) * K + k), elementB(column(5u) * K + k), elementB(column(6u) * K + k), elementB(column(7u) * K + k));
-  }
+// B(k, n0..n0+3)
+vec4 rowOfB(uint k) {
+  if (B_NK == 0 && B_VEC4) return texelFetch(B, int((k * N + n0) / 4u));
+  if (B_NK == 0)
+    return vec4(elementB(k * N + column(0u)), elementB(k * N + column(1u)), elementB(k * N + column(2u)),
+                elementB(k * N + column(3u)));
+  return vec4(elementB(column(0u) * K + k), elementB(column(1u) * K + k), elementB(column(2u) * K + k),
+              elementB(column(3u) * K + k));
 }
 
-// a[kk] = A(m0..m0+3, k0+kk)
-void blockOfA(uint k0, out mat4 a) {
+// a[kk] = A(m0+4h .. m0+4h+3, k0+kk)
+mat4 blockOfA(uint k0, uint h) {
   if (A_KM == 0 && A_VEC4) {
-    a = transpose(mat4(texelFetch(A, int((row(0u) * K + k0) / 4u)), texelFetch(A, int((row(1u) * K + k0) / 4u)),
-                       texelFetch(A, int((row(2u) * K + k0) / 4u)), texelFetch(A, int((row(3u) * K + k0) / 4u))));
-  } else {
-    a = mat4(columnOfA(k0), columnOfA(k0 + 1u), columnOfA(k0 + 2u), columnOfA(k0 + 3u));
+    return transpose(mat4(texelFetch(A, int((row(4u * h) * K + k0) / 4u)), texelFetch(A, int((row(4u * h + 1u) * K + k0) / 4u)),
+                          texelFetch(A, int((row(4u * h + 2u) * K + k0) / 4u)), texelFetch(A, int((row(4u * h + 3u) * K + k0) / 4u))));
   }
+  return mat4(columnOfA(k0, h), columnOfA(k0 + 1u, h), columnOfA(k0 + 2u, h), columnOfA(k0 + 3u, h));
 }
 
-// low[kk] = B(k0+kk, n0..n0+3), high[kk] = B(k0+kk, n0+4..n0+7)
-void blockOfB(uint k0, out mat4 low, out mat4 high) {
+// b[kk] = B(k0+kk, n0..n0+3)
+mat4 blockOfB(uint k0) {
   if (B_NK == 1 && B_VEC4) {
-    low = transpose(mat4(texelFetch(B, int((column(0u) * K + k0) / 4u)), texelFetch(B, int((column(1u) * K + k0) / 4u)),
-                         texelFetch(B, int((column(2u) * K + k0) / 4u)), texelFetch(B, int((column(3u) * K + k0) / 4u))));
-    high = transpose(mat4(texelFetch(B, int((column(4u) * K + k0) / 4u)), texelFetch(B, int((column(5u) * K + k0) / 4u)),
-                          texelFetch(B, int((column(6u) * K + k0) / 4u)), texelFetch(B, int((column(7u) * K + k0) / 4u))));
-  } else {
-    for (uint kk = 0u; kk < 4u; ++kk) rowOfB(k0 + kk, low[kk], high[kk]);
+    return transpose(mat4(texelFetch(B, int((column(0u) * K + k0) / 4u)), texelFetch(B, int((column(1u) * K + k0) / 4u)),
+                          texelFetch(B, int((column(2u) * K + k0) / 4u)), texelFetch(B, int((column(3u) * K + k0) / 4u))));
   }
+  return mat4(rowOfB(k0), rowOfB(k0 + 1u), rowOfB(k0 + 2u), rowOfB(k0 + 3u));
 }
 
 void main() {
-  n0 = 8u * gl_GlobalInvocationID.x;
-  m0 = 4u * gl_GlobalInvocationID.y;
+  n0 = 4u * gl_GlobalInvocationID.x;
+  m0 = 8u * gl_GlobalInvocationID.y;
   if (n0 >= N || m0 >= M) return;
 
-  vec4 low[4] = vec4[4](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));   // C(m0+i, n0..n0+3)
-  vec4 high[4] = vec4[4](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));  // C(m0+i, n0+4..n0+7)
+  vec4 sums[8] = vec4[8](vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0), vec4(0.0));
   const uint chunked = K & ~3u;
   for (uint k0 = 0u; k0 < chunked; k0 += 4u) {
-    mat4 a, bLow, bHigh;
-    blockOfA(k0, a);
-    blockOfB(k0, bLow, bHigh);
+    const mat4 low = blockOfA(k0, 0u);
+    const mat4 high = blockOfA(k0, 1u);
+    const mat4 b = blockOfB(k0);
     for (uint kk = 0u; kk < 4u; ++kk) {
       for (uint i = 0u; i < 4u; ++i) {
-        low[i] += a[kk][i] * bLow[kk];
-        high[i] += a[kk][i] * bHigh[kk];
+        sums[i] += low[kk][i] * b[kk];
+        sums[4u + i] += high[kk][i] * b[kk];
       }
     }
   }
   for (uint k = chunked; k < K; ++k) {
-    const vec4 a = columnOfA(k);
-    vec4 bLow, bHigh;
-    rowOfB(k, bLow, bHigh);
+    const vec4 low = columnOfA(k, 0u);
+    const vec4 high = columnOfA(k, 1u);
+    const vec4 b = rowOfB(k);
     for (uint i = 0u; i < 4u; ++i) {
-      low[i] += a[i] * bLow;
-      high[i] += a[i] * bHigh;
+      sums[i] += low[i] * b;
+      sums[4u + i] += high[i] * b;
     }
   }
 
-  vec4 biasLow = vec4(0.0), biasHigh = vec4(0.0);
+  vec4 biasRow = vec4(0.0);
   if (HAS_BIAS) {
-    biasLow = vec4(texelFetch(bias, int(column(0u))).x, texelFetch(bias, int(column(1u))).x,
+    biasRow = vec4(texelFetch(bias, int(column(0u))).x, texelFetch(bias, int(column(1u))).x,
                    texelFetch(bias, int(column(2u))).x, texelFetch(bias, int(column(3u))).x);
-    biasHigh = vec4(texelFetch(bias, int(column(4u))).x, texelFetch(bias, int(column(5u))).x,
-                    texelFetch(bias, int(column(6u))).x, texelFetch(bias, int(column(7u))).x);
   }
-  for (uint i = 0u; i < 4u && m0 + i < M; ++i) {
-    const vec4 valuesLow = low[i] + biasLow;
-    const vec4 valuesHigh = high[i] + biasHigh;
+  for (uint i = 0u; i < 8u; ++i) {
+    if (m0 + i >= M) break;
+    const vec4 values = sums[i] + biasRow;
     const uint base = (m0 + i) * N + n0;
-    for (uint j = 0u; j < 4u && n0 + j < N; ++j) C[base + j] = valuesLow[j];
-    for (uint j = 0u; j < 4u && n0 + 4u + j < N; ++j) C[base + 4u + j] = valuesHigh[j];
+    for (uint j = 0u; j < 4u; ++j)
+      if (n0 + j < N) C[base + j] = values[j];
   }
 }
