@@ -27,11 +27,13 @@ Var avgPool(Tape& tape, const Var& x) { return pool(tape, x, ops::PoolKind::Aver
 
 namespace {
 
+std::vector<Var> applyMax(Tape& t, const std::vector<Var>& in, const OpAttrs&) { return {maxPool(t, in[0])}; }
+std::vector<Var> applyAverage(Tape& t, const std::vector<Var>& in, const OpAttrs&) { return {avgPool(t, in[0])}; }
+
 const bool registered =
-    registerOp({"max_pool", "2D/3D max pooling, kernel 2, stride 2, ceil mode", {"x"}, {}, {}, {"y"},
-                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return std::vector<Var>{maxPool(t, in[0])}; }}) &&
+    registerOp({"max_pool", "2D/3D max pooling, kernel 2, stride 2, ceil mode", {"x"}, {}, {}, {"y"}, applyMax}) &&
     registerOp({"avg_pool", "2D/3D average pooling, kernel 2, stride 2, ceil mode", {"x"}, {}, {}, {"y"},
-                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return std::vector<Var>{avgPool(t, in[0])}; }});
+                applyAverage});
 
 }  // namespace
 }  // namespace smokesvd::fn

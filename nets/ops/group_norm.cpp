@@ -65,7 +65,8 @@ void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, cons
                   {vec4 ? asVec4(x) : Arg(x), partial}, statsPush,
                   {static_cast<uint32_t>(chunks), static_cast<uint32_t>(blocks), 1});
 
-  struct { int32_t groupSize, chunks, blocks; float eps; } finalizePush{static_cast<int32_t>(groupSize), chunks, blocks, eps};
+  struct { int32_t groupSize, chunks, blocks; float eps; } finalizePush{static_cast<int32_t>(groupSize), chunks,
+                                                                        blocks, eps};
   stream.dispatchFlat(stream.kernel("nn/group_norm_finalize", {64, 1, 1}, {kChunk}), {partial, stats}, finalizePush,
                       static_cast<uint64_t>(blocks));
 

@@ -18,8 +18,8 @@ struct GroupNormShape {
 // Checks that x is N,C,spatial... (rank >= 3, non-empty, N C <= 65535) and that groups divides C.
 GroupNormShape groupNormShape(const Shape& x, int64_t groups);
 
-// y = (x - mean) / sqrt(var + eps) * gamma[c] + beta[c], gamma and beta [C]; stats ([N * groups, 2]: mean, 1/sqrt(var + eps))
-// is written for the backward.
+// y = (x - mean) / sqrt(var + eps) * gamma[c] + beta[c], gamma and beta [C]; stats ([N * groups, 2]:
+// mean, 1 / sqrt(var + eps)) is written for the backward.
 void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& beta, int64_t groups,
                       float eps, const Tensor& y, const Tensor& stats);
 

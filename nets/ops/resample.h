@@ -1,11 +1,13 @@
 // Up- and down-sampling of N,C,H,W and N,C,D,H,W float32 tensors by an integer factor k along every
-// spatial axis (shaders/nn/resample.comp), with PyTorch's F.interpolate semantics, align_corners=False:
+// spatial axis, with PyTorch's F.interpolate semantics, align_corners=False:
 //   up:    F.interpolate(x, scale_factor=k, mode=...)     every spatial size s becomes s k
 //   down:  F.interpolate(x, scale_factor=1/k, mode=...)   every spatial size s becomes floor(s / k)
 // Nearest: up repeats each element k times per axis; down keeps element o k (the first of each block).
 // Linear (bilinear in 2D, trilinear in 3D): up samples at (o + 1/2) / k - 1/2 clamped at 0; down
 // samples at (o + 1/2) k - 1/2, i.e. the average of the two middle elements of each block for even k
 // and the middle element for odd k (no area averaging, no antialiasing).
+// Kernels (shaders/nn/resample_*.comp): upsampling of widths divisible by 4 runs in one pass; everything
+// else runs as one pass per spatial axis (separable stencils), with intermediate tensors.
 #pragma once
 
 #include "runtime/stream.h"

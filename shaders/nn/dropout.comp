@@ -22,7 +22,8 @@ void main() {
   if (4u * item >= n) return;
   const uint key = pcgHash(seedLow ^ pcgHash(seedHigh));
   const uvec4 index = 4u * item + uvec4(0u, 1u, 2u, 3u);
-  const uvec4 bits = uvec4(pcgHash(index.x ^ key), pcgHash(index.y ^ key), pcgHash(index.z ^ key), pcgHash(index.w ^ key));
+  const uvec4 bits =
+      uvec4(pcgHash(index.x ^ key), pcgHash(index.y ^ key), pcgHash(index.z ^ key), pcgHash(index.w ^ key));
   const vec4 u = vec4(bits >> 8u) * (1.0 / 16777216.0);
   y[item] = mix(vec4(0.0), texelFetch(x4, int(item)) * scale, greaterThanEqual(u, vec4(p)));
 }

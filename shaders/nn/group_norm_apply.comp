@@ -32,7 +32,8 @@ void main() {
     if (VEC4 != 0) {
       y[i / 4] = (texelFetch(x, i / 4) - mean) * a + b;
     } else {
-      for (int k = 0; k < 4 && first + k < chunkEnd; ++k) y[(i + k) / 4][(i + k) % 4] = (texelFetch(x, i + k).r - mean) * a + b;
+      for (int k = 0; k < 4 && first + k < chunkEnd; ++k)
+        y[(i + k) / 4][(i + k) % 4] = (texelFetch(x, i + k).r - mean) * a + b;
     }
   }
 }

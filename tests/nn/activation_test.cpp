@@ -83,7 +83,8 @@ TEST_F(ActivationTest, ForwardAndBackwardMatchReferenceAndFiniteDifferences) {
 }
 
 TEST_F(ActivationTest, KernelsWriteEveryElementAndStayFiniteAtExtremes) {
-  const std::vector<float> x{-1e30f, -100.0f, -30.0f, -1e-6f, 0.0f, 1e-6f, 0.1f, 0.24f, 0.26f, 30.0f, 100.0f, 1e30f, 3e-3f};
+  const std::vector<float> x{-1e30f, -100.0f, -30.0f, -1e-6f, 0.0f,   1e-6f,
+                             0.1f,   0.24f,   0.26f,  30.0f, 100.0f, 1e30f, 3e-3f};
   const Shape shape{static_cast<int64_t>(x.size())};
   const Tensor input = Tensor::fromHost(context(), shape, x);
   const std::vector<float> ones(x.size(), 1.0f);

@@ -53,8 +53,9 @@ std::vector<double> reference(PoolKind kind, std::span<const double> x, const Sh
 }
 
 TEST_F(PoolTest, ForwardMatchesReferenceOnOddShapes) {
+  // widths that are multiples of 8 take the vec4 path, the others the per-element path
   for (const Shape& shape : {Shape{2, 3, 7, 9}, Shape{1, 2, 8, 5}, Shape{1, 1, 1, 1}, Shape{2, 2, 5, 7, 9},
-                             Shape{1, 3, 4, 3, 6}, Shape{1, 1, 1, 3, 2}}) {
+                             Shape{1, 3, 4, 3, 6}, Shape{1, 1, 1, 3, 2}, Shape{2, 1, 5, 24}, Shape{1, 2, 3, 5, 40}}) {
     for (PoolKind kind : {PoolKind::Max, PoolKind::Average}) {
       SCOPED_TRACE(toString(shape) + (kind == PoolKind::Max ? " max" : " average"));
       std::vector<float> x;
@@ -70,7 +71,7 @@ TEST_F(PoolTest, ForwardMatchesReferenceOnOddShapes) {
 
 TEST_F(PoolTest, BackwardMatchesFiniteDifferences) {
   // random values are distinct, so no max-pool window has a tie (a kink of the max)
-  for (const Shape& shape : {Shape{2, 2, 5, 7}, Shape{1, 2, 3, 5, 4}}) {
+  for (const Shape& shape : {Shape{2, 2, 5, 7}, Shape{1, 2, 3, 5, 4}, Shape{1, 2, 3, 8}, Shape{1, 1, 3, 3, 16}}) {
     for (PoolKind kind : {PoolKind::Max, PoolKind::Average}) {
       SCOPED_TRACE(toString(shape) + (kind == PoolKind::Max ? " max" : " average"));
       std::vector<float> x, g;
@@ -119,6 +120,25 @@ TEST_F(PoolTest, MaxPoolRoutesTiesToTheFirstMaximumAndWritesEveryGradient) {
   stream.submit();
   EXPECT_TRUE(allClose(y, std::vector<double>{5, 0, 2, -3}, {0, 0}));
   EXPECT_TRUE(allClose(gx, std::vector<double>{0, 10, 20, 0, 0, 0, 30, 0, 40}, {0, 0}));
+}
+
+TEST_F(PoolTest, MaxPoolTiesOnTheVec4PathFollowScanOrder) {
+  // [1, 1, 2, 2, 8]: four 2x2x2 windows, each holding its maximum 7 twice
+  std::vector<float> x(32, 0.0f);
+  auto at = [](int z, int y, int xx) { return static_cast<std::size_t>((z * 2 + y) * 8 + xx); };
+  x[at(0, 1, 1)] = 7, x[at(1, 0, 0)] = 7;  // window 0: (z0, y1, x1) comes first
+  x[at(1, 0, 2)] = 7, x[at(1, 1, 3)] = 7;  // window 1: (z1, y0, x0) first
+  x[at(0, 0, 5)] = 7, x[at(0, 1, 4)] = 7;  // window 2: (z0, y0, x1) first
+  x[at(0, 0, 6)] = 7, x[at(0, 0, 7)] = 7;  // window 3: (z0, y0, x0) first
+  const Tensor input = Tensor::fromHost(context(), {1, 1, 2, 2, 8}, x);
+  const Tensor gy = Tensor::fromHost(context(), {1, 1, 1, 1, 4}, std::vector<float>{1, 2, 3, 4});
+  Tensor gx = poisonedTensor(context(), {1, 1, 2, 2, 8});
+  Stream stream(context());
+  ops::poolBackward(stream, PoolKind::Max, input, gy, gx);
+  stream.submit();
+  std::vector<double> expected(32, 0.0);
+  expected[at(0, 1, 1)] = 1, expected[at(1, 0, 2)] = 2, expected[at(0, 0, 5)] = 3, expected[at(0, 0, 6)] = 4;
+  EXPECT_TRUE(allClose(gx, expected, {0, 0}));
 }
 
 TEST_F(PoolTest, RunsThroughSmokesvdOp) {
