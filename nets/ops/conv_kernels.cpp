@@ -34,12 +34,6 @@ void sumPartials(Stream& stream, const Tensor& partial, int64_t parts, const Ten
                       static_cast<uint64_t>(out.numel()));
 }
 
-}  // namespace
-
-int64_t roundUp(int64_t value, int64_t multiple) { return (value + multiple - 1) / multiple * multiple; }
-
-namespace {
-
 void requireBlocking(const ConvBlocking& requested) {
   if (requested.pixels < 0 || requested.pixels > 16)
     throw Error("conv: blocking of " + std::to_string(requested.pixels) + " pixels, expected 1..16 (0: automatic)");
@@ -50,10 +44,13 @@ void requireBlocking(const ConvBlocking& requested) {
 
 // No more pixels per invocation than the row has (rounded up to a power of two).
 int fitPixels(int pixels, int64_t width) {
-  return static_cast<int>(std::min<uint64_t>(static_cast<uint64_t>(pixels), std::bit_ceil(static_cast<uint64_t>(width))));
+  const uint64_t widest = std::bit_ceil(static_cast<uint64_t>(width));
+  return static_cast<int>(std::min<uint64_t>(static_cast<uint64_t>(pixels), widest));
 }
 
 }  // namespace
+
+int64_t roundUp(int64_t value, int64_t multiple) { return (value + multiple - 1) / multiple * multiple; }
 
 ConvBlocking directBlocking(ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth) {
   requireBlocking(requested);

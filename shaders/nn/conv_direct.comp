@@ -12,9 +12,10 @@
 // A strided grid (outStep > 1) writes one phase of a transposed convolution.
 //
 // Blocking: one invocation computes PIXELS consecutive ox of one grid row for 4*CHANNEL_VEC4S output
-// channels. Per input channel and (r, s) it fetches the SPAN input values the row of taps touches and
-// reuses each for up to KW taps and all its channels; each weight vec4 serves PIXELS outputs. The
-// accumulators stay in registers because every inner loop has a constant trip count and is unrolled.
+// channels. Per input channel and (r, s) it fetches the SPAN input values the row of taps touches (as
+// vec4s when the rows start on a vec4, ALIGNED_ROWS) and reuses each for up to KW taps and all its
+// channels; each weight vec4 serves PIXELS outputs. Every inner loop has a constant trip count and
+// indexes a local array of that length by its counter, so it is unrolled and the arrays become registers.
 // Lanes run along the flattened (x block, oy, oz); workgroup y is the channel block, z the batch item.
 // Positions ox >= gridW and channels k >= K are computed but not written.
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;

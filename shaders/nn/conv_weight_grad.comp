@@ -7,9 +7,10 @@
 // xp the padded input [N, C, Dp, Hp, Wp] of the forward pass; (r, s, t) < (KD, KH, KW) the taps.
 //
 // Blocking: one invocation owns one (c, r) and 4*CHANNEL_VEC4S channels k, i.e. KH*KW*4*CHANNEL_VEC4S
-// accumulators. For each PIXELS consecutive ox it fetches KH*SPAN input values and
-// PIXELS*CHANNEL_VEC4S gradient vec4s and does KH*KW*PIXELS*4*CHANNEL_VEC4S multiply-adds. Lanes run
-// along (c, r); workgroup y is the channel block, z the chunk. Channels k >= K are not written.
+// accumulators. For each PIXELS consecutive ox it fetches KH*SPAN input values (as vec4s when
+// ALIGNED_ROWS) and PIXELS*CHANNEL_VEC4S gradient vec4s, and does KH*KW*PIXELS*4*CHANNEL_VEC4S
+// multiply-adds. Lanes run along (c, r); workgroup y is the channel block, z the chunk. Channels
+// k >= K are not written.
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int KD = 1;
 layout(constant_id = 4) const int KH = 3;

@@ -2,6 +2,8 @@
 // produces equal what the raw kernels give for the same upstream gradient.
 #include <gtest/gtest.h>
 
+#include <ostream>
+
 #include "nets/functional/conv.h"
 #include "nets/op_registry.h"
 #include "tests/harness/compare.h"
@@ -21,6 +23,8 @@ struct WrapperCase {
   Shape w;
   ops::ConvParams params;
 };
+
+void PrintTo(const WrapperCase& c, std::ostream* os) { *os << c.op; }
 
 class ConvFunctionalTest : public GpuTest, public ::testing::WithParamInterface<WrapperCase> {};
 
