@@ -281,16 +281,47 @@ TEST_F(ModulesTest, ResBlockTreeNamesMatchPyTorch) {
   }
 }
 
-TEST_F(ModulesTest, ResBlock3dRunsAndChecksItsEmbedding) {
-  ResBlock block(context(), {.dims = 3, .inChannels = 2, .outChannels = 4, .groups = 2});
-  block.initialize(1);
+// A 3D block on a volume one voxel deep equals the 2D block (checked against PyTorch) whose 3x3 kernels
+// are the middle depth slices of the 3D block's 3x3x3 ones.
+TEST_F(ModulesTest, ResBlock3dOnOneSliceEqualsResBlock2d) {
+  const ResBlockOptions options3d{.dims = 3, .inChannels = 2, .outChannels = 4, .tembChannels = 8, .groups = 2};
+  ResBlockOptions options2d = options3d;
+  options2d.dims = 2;
+  ResBlock block3d(context(), options3d), block2d(context(), options2d);
+  block3d.initialize(1);
+  const NamedParameters p3 = block3d.namedParameters(), p2 = block2d.namedParameters();
+  ASSERT_EQ(p3.size(), p2.size());
+  for (std::size_t i = 0; i < p3.size(); ++i) {
+    std::vector<float> values = p3[i].second->value.download();
+    const Shape& shape = p3[i].second->value.shape();
+    if (shape.size() == 5 && shape[2] == 3) {  // [o, i, 3, 3, 3] -> [o, i, 3, 3] at depth 1
+      std::vector<float> middle;
+      for (int64_t oi = 0; oi < shape[0] * shape[1]; ++oi)
+        for (int64_t hw = 0; hw < 9; ++hw) middle.push_back(values[static_cast<std::size_t>(oi * 27 + 9 + hw)]);
+      values = middle;
+    }
+    p2[i].second->value.upload(values);
+  }
+  std::vector<float> xValues;
+  const Tensor x = randomTensor(context(), {2, 2, 1, 4, 5}, 1, -1, 1, &xValues);
+  const Var temb = variable(randomTensor(context(), {2, 8}, 2));
   Stream stream(context());
   Tape tape(stream);
-  const Var x = variable(randomTensor(context(), {1, 2, 3, 4, 5}, 1));
-  EXPECT_EQ(block.forward(tape, x)->value.shape(), (Shape{1, 4, 3, 4, 5}));
-  EXPECT_THROW(block.forward(tape, x, variable(randomTensor(context(), {1, 8}, 2))), Error);
+  const Var y3 = block3d.forward(tape, variable(x), temb);
+  const Var y2 = block2d.forward(tape, variable(Tensor::fromHost(context(), {2, 2, 4, 5}, xValues)), temb);
+  stream.submit();
+  EXPECT_EQ(y3->value.shape(), (Shape{2, 4, 1, 4, 5}));
+  EXPECT_TRUE(allClose(y3->value, y2->value.download(), {1e-5, 1e-5}));
+}
+
+TEST_F(ModulesTest, ResBlockChecksItsEmbeddingAndGroups) {
+  Stream stream(context());
+  Tape tape(stream);
+  const Var x = variable(randomTensor(context(), {1, 2, 4, 4}, 1));
+  ResBlock plain(context(), {.inChannels = 2, .groups = 2});
+  EXPECT_THROW(plain.forward(tape, x, variable(randomTensor(context(), {1, 8}, 2))), Error);
   ResBlock withEmbedding(context(), {.inChannels = 2, .tembChannels = 8, .groups = 2});
-  EXPECT_THROW(withEmbedding.forward(tape, variable(randomTensor(context(), {1, 2, 4, 4}, 3))), Error);
+  EXPECT_THROW(withEmbedding.forward(tape, x), Error);
   EXPECT_THROW(ResBlock(context(), {.inChannels = 6, .outChannels = 4, .groups = 4}), Error);
 }
 
