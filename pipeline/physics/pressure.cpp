@@ -1,0 +1,269 @@
+#include "pipeline/physics/pressure.h"
+
+#include <algorithm>
+#include <string>
+
+#include "nets/ops/elementwise.h"
+#include "runtime/error.h"
+
+namespace smokesvd::physics {
+namespace pressure_ops {
+namespace {
+
+constexpr uint32_t kWorkgroup = 128;  // a power of two (shared-memory tree of the partial reductions)
+constexpr uint32_t kScalarWorkgroup = 256;
+
+struct GridPush {
+  int32_t x, y, z;
+};
+GridPush push(const GridSize& grid) {
+  return {static_cast<int32_t>(grid.x), static_cast<int32_t>(grid.y), static_cast<int32_t>(grid.z)};
+}
+
+// Size and a scalar, then the coarse size: the push block of the multigrid kernels.
+struct LevelPush {
+  GridPush size;
+  float scalar;
+  GridPush coarse;
+};
+
+const Kernel& kernel(Stream& stream, const char* name, std::vector<int32_t> constants = {}) {
+  return stream.kernel(std::string("physics/") + name, {kWorkgroup, 1, 1}, std::move(constants));
+}
+
+void requirePartials(const Tensor& partials, int64_t needed, const char* what) {
+  if (partials.numel() < needed)
+    throw Error(std::string(what) + ": the partials buffer holds " + std::to_string(partials.numel()) +
+                " floats, " + std::to_string(needed) + " are needed");
+}
+
+}  // namespace
+
+int64_t partialCount(int64_t cells) {
+  // dispatchFlat lays the workgroups on a 2D grid at most 65535 wide; every one writes its slot.
+  const int64_t groups = (cells + kWorkgroup - 1) / kWorkgroup;
+  const int64_t width = std::min<int64_t>(groups, 65535);
+  return width * ((groups + width - 1) / width);
+}
+
+GridSize coarserGrid(const GridSize& grid) { return {(grid.x + 1) / 2, (grid.y + 1) / 2, (grid.z + 1) / 2}; }
+
+void residual(Stream& stream, const Tensor& flags, const Tensor& velocity, const Tensor& pressure,
+              const Tensor& residual, const Tensor& partials) {
+  const GridSize grid = volumeGrid(flags, "pressure residual (flags)");
+  requireVector(velocity, grid, "pressure residual (velocity)");
+  requireVolume(pressure, grid, "pressure residual (pressure)");
+  requireVolume(residual, grid, "pressure residual (residual)");
+  const int64_t groups = partialCount(grid.cells());
+  requirePartials(partials, 2 * groups, "pressure residual");
+  struct { GridPush size; uint32_t groups; } p{push(grid), static_cast<uint32_t>(groups)};
+  stream.dispatchFlat(kernel(stream, "pressure_residual"), {flags, velocity, pressure, residual, partials}, p,
+                      grid.cells());
+}
+
+void applyDirection(Stream& stream, const Tensor& flags, const Tensor& preconditioned, const Tensor& directionOld,
+                    const Tensor& scalars, const Tensor& direction, const Tensor& product, const Tensor& partials) {
+  const GridSize grid = volumeGrid(flags, "pressure direction (flags)");
+  for (const Tensor* t : {&preconditioned, &directionOld, &direction, &product})
+    requireVolume(*t, grid, "pressure direction");
+  requirePartials(partials, partialCount(grid.cells()), "pressure direction");
+  stream.dispatchFlat(kernel(stream, "pressure_apply"),
+                      {flags, preconditioned, directionOld, scalars, direction, product, partials}, push(grid),
+                      grid.cells());
+}
+
+void update(Stream& stream, const Tensor& solutionOld, const Tensor& residualOld, const Tensor& direction,
+            const Tensor& product, const Tensor& scalars, const Tensor& solution, const Tensor& residual,
+            const Tensor& partials) {
+  ops::requireSameShape("pressure update", {&solutionOld, &residualOld, &direction, &product, &solution, &residual});
+  const int64_t cells = solution.numel();
+  requirePartials(partials, partialCount(cells), "pressure update");
+  struct { uint32_t cells; } p{static_cast<uint32_t>(cells)};
+  stream.dispatchFlat(kernel(stream, "pressure_update"),
+                      {solutionOld, residualOld, direction, product, scalars, solution, residual, partials}, p, cells);
+}
+
+void scalars(Stream& stream, ScalarStep step, const Tensor& partials, int64_t count, const Tensor& scalars) {
+  if (scalars.numel() < kScalarSlots)
+    throw Error("pressure scalars: the scalar buffer needs " + std::to_string(kScalarSlots) + " floats");
+  requirePartials(partials, step == ScalarStep::Start ? 2 * count : count, "pressure scalars");
+  const Kernel& k = stream.kernel("physics/pressure_scalars", {kScalarWorkgroup, 1, 1}, {static_cast<int32_t>(step)});
+  struct { uint32_t n; } p{static_cast<uint32_t>(count)};
+  stream.dispatch(k, {partials, scalars}, p, {1, 1, 1});
+}
+
+void smooth(Stream& stream, SmoothMode mode, bool dot, const Tensor& flags, const Tensor& rhs, const Tensor& x,
+            const Tensor& coarse, const GridSize& coarseGrid, float weight, const Tensor& xNew,
+            const Tensor& partials) {
+  const GridSize grid = volumeGrid(flags, "multigrid smooth (flags)");
+  for (const Tensor* t : {&rhs, &x, &xNew}) requireVolume(*t, grid, "multigrid smooth");
+  if (mode == SmoothMode::Corrected) requireVolume(coarse, coarseGrid, "multigrid smooth (coarse correction)");
+  if (dot) requirePartials(partials, partialCount(grid.cells()), "multigrid smooth");
+  const Kernel& k = kernel(stream, "multigrid_smooth", {static_cast<int32_t>(mode), dot ? 1 : 0});
+  stream.dispatchFlat(k, {flags, rhs, x, coarse, xNew, partials}, LevelPush{push(grid), weight, push(coarseGrid)},
+                      grid.cells());
+}
+
+void restrictResidual(Stream& stream, const Tensor& flags, const Tensor& rhs, const Tensor& x,
+                      const Tensor& coarseFlags, float scale, const Tensor& coarseRhs) {
+  const GridSize grid = volumeGrid(flags, "multigrid restriction (flags)");
+  const GridSize coarse = coarserGrid(grid);
+  requireVolume(rhs, grid, "multigrid restriction (rhs)");
+  requireVolume(x, grid, "multigrid restriction (x)");
+  requireVolume(coarseFlags, coarse, "multigrid restriction (coarse flags)");
+  requireVolume(coarseRhs, coarse, "multigrid restriction (coarse rhs)");
+  stream.dispatchFlat(kernel(stream, "multigrid_restrict"), {flags, rhs, x, coarseFlags, coarseRhs},
+                      LevelPush{push(grid), scale, push(coarse)}, coarse.cells());
+}
+
+void coarsenFlags(Stream& stream, const Tensor& flags, const Tensor& coarseFlags) {
+  const GridSize grid = volumeGrid(flags, "multigrid coarsening (flags)");
+  const GridSize coarse = coarserGrid(grid);
+  requireVolume(coarseFlags, coarse, "multigrid coarsening (coarse flags)");
+  stream.dispatchFlat(kernel(stream, "multigrid_coarsen"), {flags, coarseFlags},
+                      LevelPush{push(grid), 0.0f, push(coarse)}, coarse.cells());
+}
+
+void correctVelocity(Stream& stream, const Tensor& flags, const Tensor& pressure, const Tensor& velocity,
+                     const Tensor& velocityOut) {
+  const GridSize grid = volumeGrid(flags, "pressure correction (flags)");
+  requireVolume(pressure, grid, "pressure correction (pressure)");
+  requireVector(velocity, grid, "pressure correction (velocity)");
+  requireVector(velocityOut, grid, "pressure correction (output velocity)");
+  stream.dispatchFlat(kernel(stream, "pressure_correct"), {flags, pressure, velocity, velocityOut}, push(grid),
+                      grid.cells());
+}
+
+}  // namespace pressure_ops
+
+using namespace pressure_ops;
+
+PressureSolver::PressureSolver(Context& context, const Tensor& flags, PressureOptions options)
+    : context_(context), grid_(volumeGrid(flags, "pressure solver (flags)")), options_(options) {
+  if (options_.smoothingSweeps < 1 || options_.coarsestSweeps < 1 || options_.maxIterations < 1 ||
+      options_.tolerance <= 0)
+    throw Error("pressure solver: sweeps and iterations must be at least 1 and the tolerance positive");
+  const Shape volume = grid_.volume();
+  for (int i = 0; i < 2; ++i) {
+    solution_[i] = Tensor(context, volume);
+    residual_[i] = Tensor(context, volume);
+    direction_[i] = Tensor(context, volume);
+  }
+  product_ = Tensor(context, volume);
+  preconditioned_ = Tensor(context, volume);
+  partials_ = Tensor(context, {2 * partialCount(grid_.cells())});
+  scalars_ = Tensor(context, {kScalarSlots});
+
+  GridSize size = grid_;
+  for (;;) {
+    Level level{size, Tensor(context, size.volume()), {}, Tensor(context, size.volume()),
+                Tensor(context, size.volume()), {}};
+    if (!levels_.empty()) {
+      level.rhs = Tensor(context, size.volume());
+      level.correction = Tensor(context, size.volume());
+    }
+    levels_.push_back(std::move(level));
+    const GridSize next = coarserGrid(size);
+    if (std::min({next.x, next.y, next.z}) < options_.coarsestSide || next == size) break;
+    size = next;
+  }
+  setFlags(flags);
+}
+
+void PressureSolver::setFlags(const Tensor& flags) {
+  requireVolume(flags, grid_, "pressure solver (flags)");
+  Stream stream(context_);
+  stream.copy(flags, levels_[0].flags);
+  for (std::size_t l = 1; l < levels_.size(); ++l) coarsenFlags(stream, levels_[l - 1].flags, levels_[l].flags);
+  ops::fill(stream, solution_[0], 0.0f);
+  stream.submit();
+  for (int parity = 0; parity < 2; ++parity) {
+    iteration_[parity] = std::make_unique<Stream>(context_);
+    recordIteration(*iteration_[parity], parity);
+  }
+}
+
+void PressureSolver::recordVCycle(Stream& stream, std::size_t level, const Tensor& rhs, const Tensor& out,
+                                  bool dot) const {
+  const Level& L = levels_[level];
+  const bool coarsest = level + 1 == levels_.size();
+  const GridSize coarseGrid = coarsest ? L.grid : levels_[level + 1].grid;
+  const Tensor& coarse = coarsest ? rhs : levels_[level + 1].correction;
+  const float weight = options_.jacobiWeight;
+  // A run of sweeps alternating between the level's two buffers, the last one into `last`.
+  auto sweeps = [&](int count, SmoothMode firstMode, const Tensor* start, const Tensor& last, bool withDot) {
+    const Tensor* x = start ? start : &rhs;
+    for (int s = 0; s < count; ++s) {
+      const bool final = s + 1 == count;
+      const Tensor& target = final ? last : (x == &L.smoothA ? L.smoothB : L.smoothA);
+      smooth(stream, s == 0 ? firstMode : SmoothMode::Plain, final && withDot, L.flags, rhs, *x, coarse, coarseGrid,
+             weight, target, partials_);
+      x = &target;
+    }
+  };
+  if (coarsest) {
+    sweeps(options_.coarsestSweeps, SmoothMode::First, nullptr, out, dot);
+    return;
+  }
+  const int nu = options_.smoothingSweeps;
+  const Tensor& smoothed = nu % 2 == 1 ? L.smoothA : L.smoothB;
+  sweeps(nu, SmoothMode::First, nullptr, smoothed, false);
+  const Level& next = levels_[level + 1];
+  restrictResidual(stream, L.flags, rhs, smoothed, next.flags, options_.restrictionScale, next.rhs);
+  recordVCycle(stream, level + 1, next.rhs, next.correction, false);
+  sweeps(nu, SmoothMode::Corrected, &smoothed, out, dot);
+}
+
+void PressureSolver::recordIteration(Stream& stream, int parity) const {
+  const int next = 1 - parity;
+  const int64_t groups = partialCount(grid_.cells());
+  const Tensor& flags = levels_[0].flags;
+  recordVCycle(stream, 0, residual_[parity], preconditioned_, true);
+  scalars(stream, ScalarStep::Direction, partials_, groups, scalars_);
+  applyDirection(stream, flags, preconditioned_, direction_[parity], scalars_, direction_[next], product_, partials_);
+  scalars(stream, ScalarStep::Step, partials_, groups, scalars_);
+  update(stream, solution_[parity], residual_[parity], direction_[next], product_, scalars_, solution_[next],
+         residual_[next], partials_);
+  scalars(stream, ScalarStep::Residual, partials_, groups, scalars_);
+}
+
+std::vector<float> PressureSolver::readScalars() const { return scalars_.download(); }
+
+PressureReport PressureSolver::project(const Tensor& velocity, const Tensor& velocityOut) {
+  requireVector(velocity, grid_, "pressure projection (velocity)");
+  requireVector(velocityOut, grid_, "pressure projection (output velocity)");
+  if (velocity.sharedBuffer() == velocityOut.sharedBuffer())
+    throw Error("pressure projection: the output velocity must not alias the input");
+  const Tensor& flags = levels_[0].flags;
+  {
+    Stream start(context_);
+    if (!options_.warmStart) ops::fill(start, solution_[0], 0.0f);
+    ops::fill(start, direction_[0], 0.0f);
+    residual(start, flags, velocity, solution_[0], residual_[0], partials_);
+    scalars(start, ScalarStep::Start, partials_, partialCount(grid_.cells()), scalars_);
+    start.submit();
+  }
+  constexpr int kMaxR = 3, kMaxB = 4;  // slots, as in shaders/physics/pressure_scalars.glsl
+  std::vector<float> s = readScalars();
+  PressureReport report;
+  report.initialDivergence = s[kMaxB];
+  report.residual = s[kMaxR];
+  const double target = options_.tolerance * report.initialDivergence;
+  int parity = 0;
+  report.converged = report.residual <= target;
+  while (!report.converged && report.iterations < options_.maxIterations) {
+    iteration_[parity]->submit();
+    parity = 1 - parity;
+    ++report.iterations;
+    report.residual = readScalars()[kMaxR];
+    report.converged = report.residual <= target;
+  }
+  report.relativeResidual = report.initialDivergence > 0 ? report.residual / report.initialDivergence : 0;
+  Stream finish(context_);
+  correctVelocity(finish, flags, solution_[parity], velocity, velocityOut);
+  if (parity == 1) finish.copy(solution_[1], solution_[0]);
+  finish.submit();
+  return report;
+}
+
+}  // namespace smokesvd::physics

@@ -1,0 +1,119 @@
+// Pressure projection: makes a MAC velocity divergence-free, with zero normal velocity at closed walls
+// and solid obstacles (Neumann) and p = 0 in empty cells (Dirichlet, open boundaries).
+//
+// The Poisson equation A p = −div(u) is assembled on the fly from the flags (docs/simulation.md):
+//   div(u)_c = Σ_a (u_a(c + e_a) − u_a(c)) over fluid cells c, faces touching an obstacle counted as 0,
+//   (A p)_c  = Σ over non-obstacle neighbours n of (p_c − p_n), with p = 0 outside the fluid,
+// and solved by conjugate gradients preconditioned with one multigrid V-cycle (MGPCG): damped Jacobi
+// smoothing, piecewise-constant transfers between levels, coarse flags from the 2×2×2 children. The
+// solve stops when max |r| ≤ tolerance · max |div u| over the fluid; since the divergence left after the
+// projection is −r, that is also the bound on max |div u| afterwards. Every iteration runs on the device
+// from scalars kept in a small buffer; the host reads max |r| after each one.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "pipeline/physics/grid.h"
+#include "runtime/context.h"
+#include "runtime/stream.h"
+#include "runtime/tensor.h"
+
+namespace smokesvd::physics {
+
+struct PressureOptions {
+  double tolerance = 1e-4;        // relative residual in the max norm: max |r| / max |div u|
+  int maxIterations = 100;        // conjugate-gradient iterations before giving up (report says so)
+  bool warmStart = true;          // start from the previous solve's pressure
+  int smoothingSweeps = 2;        // Jacobi sweeps before and after each coarse correction
+  int coarsestSweeps = 16;        // Jacobi sweeps on the coarsest level
+  float jacobiWeight = 0.8f;      // ω of the damped Jacobi sweeps
+  float restrictionScale = 0.5f;  // γ: coarse rhs = γ · sum of the 8 children's residuals
+  int64_t coarsestSide = 4;       // stop coarsening when a side would fall below this
+};
+
+struct PressureReport {
+  int iterations = 0;             // conjugate-gradient iterations run
+  double initialDivergence = 0;   // max |div u| over fluid cells before the projection
+  double residual = 0;            // max |r| at the end: max |div u| left after the projection
+  double relativeResidual = 0;    // residual / initialDivergence (0 when there was nothing to remove)
+  bool converged = false;
+};
+
+class PressureSolver {
+ public:
+  // `flags` [D, H, W] (1 fluid, 2 obstacle, 4 empty) are copied into the solver's multigrid hierarchy.
+  PressureSolver(Context& context, const Tensor& flags, PressureOptions options = {});
+  PressureSolver(const PressureSolver&) = delete;
+  PressureSolver& operator=(const PressureSolver&) = delete;
+
+  // velocityOut = velocity − ∇p (MAC, [3, D, H, W]); faces touching an obstacle become 0. Both must be
+  // distinct tensors of the solver's grid. Submits its own streams: record earlier work and submit it first.
+  PressureReport project(const Tensor& velocity, const Tensor& velocityOut);
+
+  // New obstacles or open sides: rebuilds the multigrid flags and forgets the previous pressure.
+  void setFlags(const Tensor& flags);
+
+  const GridSize& grid() const { return grid_; }
+  const PressureOptions& options() const { return options_; }
+  // The pressure of the last solve [D, H, W] (0 outside the fluid); the next solve starts from it.
+  const Tensor& pressure() const { return solution_[0]; }
+  int levels() const { return static_cast<int>(levels_.size()); }
+
+ private:
+  struct Level {
+    GridSize grid;
+    Tensor flags, rhs, smoothA, smoothB, correction;
+  };
+  void recordVCycle(Stream& stream, std::size_t level, const Tensor& rhs, const Tensor& out, bool dot) const;
+  void recordIteration(Stream& stream, int parity) const;
+  std::vector<float> readScalars() const;
+
+  Context& context_;
+  GridSize grid_;
+  PressureOptions options_;
+  std::vector<Level> levels_;
+  Tensor solution_[2], residual_[2], direction_[2], product_, preconditioned_, partials_, scalars_;
+  std::unique_ptr<Stream> iteration_[2];
+};
+
+// The building blocks, one dispatch each (the solver composes them; tests check each against a CPU
+// reference). Partial buffers hold one value per workgroup: partialCount(cells) floats, or twice that
+// for pressureResidual. Scalar slots are listed in shaders/physics/pressure_scalars.glsl.
+namespace pressure_ops {
+
+enum class SmoothMode { First = 0, Plain = 1, Corrected = 2 };
+enum class ScalarStep { Start = 0, Direction = 1, Step = 2, Residual = 3 };
+constexpr int kScalarSlots = 8;
+
+int64_t partialCount(int64_t cells);
+GridSize coarserGrid(const GridSize& grid);
+
+// residual = −div(velocity) − A·pressure at fluid cells; partials: max |b| then max |residual|.
+void residual(Stream& stream, const Tensor& flags, const Tensor& velocity, const Tensor& pressure,
+              const Tensor& residual, const Tensor& partials);
+// direction = z + β·directionOld (fluid), product = A·direction, partials = Σ direction·product.
+void applyDirection(Stream& stream, const Tensor& flags, const Tensor& preconditioned, const Tensor& directionOld,
+                    const Tensor& scalars, const Tensor& direction, const Tensor& product, const Tensor& partials);
+// solution = solutionOld + α·direction, residual = residualOld − α·product, partials = max |residual|.
+void update(Stream& stream, const Tensor& solutionOld, const Tensor& residualOld, const Tensor& direction,
+            const Tensor& product, const Tensor& scalars, const Tensor& solution, const Tensor& residual,
+            const Tensor& partials);
+// Reduces `count` partials per set into the scalar buffer (ScalarStep says which).
+void scalars(Stream& stream, ScalarStep step, const Tensor& partials, int64_t count, const Tensor& scalars);
+// One damped Jacobi sweep; `coarse` (the next level's correction) is read in Corrected mode only and
+// `partials` (Σ rhs·xNew) written only if `dot`.
+void smooth(Stream& stream, SmoothMode mode, bool dot, const Tensor& flags, const Tensor& rhs, const Tensor& x,
+            const Tensor& coarse, const GridSize& coarseGrid, float weight, const Tensor& xNew, const Tensor& partials);
+// coarseRhs = scale · Σ over fluid children of (rhs − A x).
+void restrictResidual(Stream& stream, const Tensor& flags, const Tensor& rhs, const Tensor& x,
+                      const Tensor& coarseFlags, float scale, const Tensor& coarseRhs);
+void coarsenFlags(Stream& stream, const Tensor& flags, const Tensor& coarseFlags);
+// velocityOut = velocity − ∇pressure on faces next to fluid, 0 on faces touching an obstacle.
+void correctVelocity(Stream& stream, const Tensor& flags, const Tensor& pressure, const Tensor& velocity,
+                     const Tensor& velocityOut);
+
+}  // namespace pressure_ops
+
+}  // namespace smokesvd::physics
