@@ -1,6 +1,7 @@
 #include "pipeline/physics/pressure.h"
 
 #include <algorithm>
+#include <array>
 #include <string>
 
 #include "nets/ops/elementwise.h"
@@ -10,8 +11,14 @@ namespace smokesvd::physics {
 namespace pressure_ops {
 namespace {
 
-constexpr uint32_t kWorkgroup = 128;  // a power of two (shared-memory tree of the partial reductions)
+// One invocation per cell on a 3D dispatch: 8 lanes along x (the SIMD width of CPU devices), 128 in all.
+constexpr std::array<uint32_t, 3> kCellWorkgroup{8, 4, 4};
 constexpr uint32_t kScalarWorkgroup = 256;
+
+std::array<uint32_t, 3> cellGroups(const GridSize& grid) {
+  auto groups = [](int64_t n, uint32_t size) { return static_cast<uint32_t>((n + size - 1) / size); };
+  return {groups(grid.x, kCellWorkgroup[0]), groups(grid.y, kCellWorkgroup[1]), groups(grid.z, kCellWorkgroup[2])};
+}
 
 struct GridPush {
   int32_t x, y, z;
@@ -27,8 +34,11 @@ struct LevelPush {
   GridPush coarse;
 };
 
-const Kernel& kernel(Stream& stream, const char* name, std::vector<int32_t> constants = {}) {
-  return stream.kernel(std::string("physics/") + name, {kWorkgroup, 1, 1}, std::move(constants));
+template <typename Push>
+void dispatchCells(Stream& stream, const char* name, std::vector<int32_t> constants, std::initializer_list<Arg> args,
+                   const Push& push, const GridSize& grid) {
+  const Kernel& kernel = stream.kernel(std::string("physics/") + name, kCellWorkgroup, std::move(constants));
+  stream.dispatch(kernel, args, push, cellGroups(grid));
 }
 
 void requirePartials(const Tensor& partials, int64_t needed, const char* what) {
@@ -39,48 +49,52 @@ void requirePartials(const Tensor& partials, int64_t needed, const char* what) {
 
 }  // namespace
 
-int64_t partialCount(int64_t cells) {
-  // dispatchFlat lays the workgroups on a 2D grid at most 65535 wide; every one writes its slot.
-  const int64_t groups = (cells + kWorkgroup - 1) / kWorkgroup;
-  const int64_t width = std::min<int64_t>(groups, 65535);
-  return width * ((groups + width - 1) / width);
+int64_t partialCount(const Context& context, const GridSize& grid) {
+  const std::array<uint32_t, 3> groups = cellGroups(grid);
+  const uint32_t invocations = kCellWorkgroup[0] * kCellWorkgroup[1] * kCellWorkgroup[2];
+  const uint32_t subgroup = std::max<uint32_t>(context.info().subgroupSize, 1);
+  return int64_t{groups[0]} * groups[1] * groups[2] * ((invocations + subgroup - 1) / subgroup);
 }
 
 GridSize coarserGrid(const GridSize& grid) { return {(grid.x + 1) / 2, (grid.y + 1) / 2, (grid.z + 1) / 2}; }
 
-void residual(Stream& stream, const Tensor& flags, const Tensor& velocity, const Tensor& pressure,
+void stencilMasks(Stream& stream, const Tensor& flags, const Tensor& masks) {
+  const GridSize grid = volumeGrid(flags, "stencil masks (flags)");
+  requireVolume(masks, grid, "stencil masks (masks)");
+  dispatchCells(stream, "pressure_stencil", {}, {flags, masks}, push(grid), grid);
+}
+
+void residual(Stream& stream, const Tensor& masks, const Tensor& velocity, const Tensor& pressure,
               const Tensor& residual, const Tensor& partials) {
-  const GridSize grid = volumeGrid(flags, "pressure residual (flags)");
+  const GridSize grid = volumeGrid(masks, "pressure residual (masks)");
   requireVector(velocity, grid, "pressure residual (velocity)");
   requireVolume(pressure, grid, "pressure residual (pressure)");
   requireVolume(residual, grid, "pressure residual (residual)");
-  const int64_t groups = partialCount(grid.cells());
+  const int64_t groups = partialCount(stream.context(), grid);
   requirePartials(partials, 2 * groups, "pressure residual");
-  struct { GridPush size; uint32_t groups; } p{push(grid), static_cast<uint32_t>(groups)};
-  stream.dispatchFlat(kernel(stream, "pressure_residual"), {flags, velocity, pressure, residual, partials}, p,
-                      grid.cells());
+  struct { GridPush size; uint32_t count; } p{push(grid), static_cast<uint32_t>(groups)};
+  dispatchCells(stream, "pressure_residual", {}, {masks, velocity, pressure, residual, partials}, p, grid);
 }
 
-void applyDirection(Stream& stream, const Tensor& flags, const Tensor& preconditioned, const Tensor& directionOld,
+void applyDirection(Stream& stream, const Tensor& masks, const Tensor& preconditioned, const Tensor& directionOld,
                     const Tensor& scalars, const Tensor& direction, const Tensor& product, const Tensor& partials) {
-  const GridSize grid = volumeGrid(flags, "pressure direction (flags)");
+  const GridSize grid = volumeGrid(masks, "pressure direction (masks)");
   for (const Tensor* t : {&preconditioned, &directionOld, &direction, &product})
     requireVolume(*t, grid, "pressure direction");
-  requirePartials(partials, partialCount(grid.cells()), "pressure direction");
-  stream.dispatchFlat(kernel(stream, "pressure_apply"),
-                      {flags, preconditioned, directionOld, scalars, direction, product, partials}, push(grid),
-                      grid.cells());
+  requirePartials(partials, partialCount(stream.context(), grid), "pressure direction");
+  dispatchCells(stream, "pressure_apply", {},
+                {masks, preconditioned, directionOld, scalars, direction, product, partials}, push(grid), grid);
 }
 
 void update(Stream& stream, const Tensor& solutionOld, const Tensor& residualOld, const Tensor& direction,
             const Tensor& product, const Tensor& scalars, const Tensor& solution, const Tensor& residual,
             const Tensor& partials) {
-  ops::requireSameShape("pressure update", {&solutionOld, &residualOld, &direction, &product, &solution, &residual});
-  const int64_t cells = solution.numel();
-  requirePartials(partials, partialCount(cells), "pressure update");
-  struct { uint32_t cells; } p{static_cast<uint32_t>(cells)};
-  stream.dispatchFlat(kernel(stream, "pressure_update"),
-                      {solutionOld, residualOld, direction, product, scalars, solution, residual, partials}, p, cells);
+  const GridSize grid = volumeGrid(solution, "pressure update (solution)");
+  for (const Tensor* t : {&solutionOld, &residualOld, &direction, &product, &residual})
+    requireVolume(*t, grid, "pressure update");
+  requirePartials(partials, partialCount(stream.context(), grid), "pressure update");
+  dispatchCells(stream, "pressure_update", {},
+                {solutionOld, residualOld, direction, product, scalars, solution, residual, partials}, push(grid), grid);
 }
 
 void scalars(Stream& stream, ScalarStep step, const Tensor& partials, int64_t count, const Tensor& scalars) {
@@ -92,46 +106,44 @@ void scalars(Stream& stream, ScalarStep step, const Tensor& partials, int64_t co
   stream.dispatch(k, {partials, scalars}, p, {1, 1, 1});
 }
 
-void smooth(Stream& stream, SmoothMode mode, bool dot, const Tensor& flags, const Tensor& rhs, const Tensor& x,
+void smooth(Stream& stream, SmoothMode mode, bool dot, const Tensor& masks, const Tensor& rhs, const Tensor& x,
             const Tensor& coarse, const GridSize& coarseGrid, float weight, const Tensor& xNew,
             const Tensor& partials) {
-  const GridSize grid = volumeGrid(flags, "multigrid smooth (flags)");
+  const GridSize grid = volumeGrid(masks, "multigrid smooth (masks)");
   for (const Tensor* t : {&rhs, &x, &xNew}) requireVolume(*t, grid, "multigrid smooth");
   if (mode == SmoothMode::Corrected) requireVolume(coarse, coarseGrid, "multigrid smooth (coarse correction)");
-  if (dot) requirePartials(partials, partialCount(grid.cells()), "multigrid smooth");
-  const Kernel& k = kernel(stream, "multigrid_smooth", {static_cast<int32_t>(mode), dot ? 1 : 0});
-  stream.dispatchFlat(k, {flags, rhs, x, coarse, xNew, partials}, LevelPush{push(grid), weight, push(coarseGrid)},
-                      grid.cells());
+  if (dot) requirePartials(partials, partialCount(stream.context(), grid), "multigrid smooth");
+  dispatchCells(stream, "multigrid_smooth", {static_cast<int32_t>(mode), dot ? 1 : 0},
+                {masks, rhs, x, coarse, xNew, partials}, LevelPush{push(grid), weight, push(coarseGrid)}, grid);
 }
 
-void restrictResidual(Stream& stream, const Tensor& flags, const Tensor& rhs, const Tensor& x,
-                      const Tensor& coarseFlags, float scale, const Tensor& coarseRhs) {
-  const GridSize grid = volumeGrid(flags, "multigrid restriction (flags)");
+void restrictResidual(Stream& stream, const Tensor& masks, const Tensor& rhs, const Tensor& x,
+                      const Tensor& coarseMasks, float scale, const Tensor& coarseRhs) {
+  const GridSize grid = volumeGrid(masks, "multigrid restriction (masks)");
   const GridSize coarse = coarserGrid(grid);
   requireVolume(rhs, grid, "multigrid restriction (rhs)");
   requireVolume(x, grid, "multigrid restriction (x)");
-  requireVolume(coarseFlags, coarse, "multigrid restriction (coarse flags)");
+  requireVolume(coarseMasks, coarse, "multigrid restriction (coarse masks)");
   requireVolume(coarseRhs, coarse, "multigrid restriction (coarse rhs)");
-  stream.dispatchFlat(kernel(stream, "multigrid_restrict"), {flags, rhs, x, coarseFlags, coarseRhs},
-                      LevelPush{push(grid), scale, push(coarse)}, coarse.cells());
+  dispatchCells(stream, "multigrid_restrict", {}, {masks, rhs, x, coarseMasks, coarseRhs},
+                LevelPush{push(grid), scale, push(coarse)}, coarse);
 }
 
 void coarsenFlags(Stream& stream, const Tensor& flags, const Tensor& coarseFlags) {
   const GridSize grid = volumeGrid(flags, "multigrid coarsening (flags)");
   const GridSize coarse = coarserGrid(grid);
   requireVolume(coarseFlags, coarse, "multigrid coarsening (coarse flags)");
-  stream.dispatchFlat(kernel(stream, "multigrid_coarsen"), {flags, coarseFlags},
-                      LevelPush{push(grid), 0.0f, push(coarse)}, coarse.cells());
+  dispatchCells(stream, "multigrid_coarsen", {}, {flags, coarseFlags}, LevelPush{push(grid), 0.0f, push(coarse)},
+                coarse);
 }
 
-void correctVelocity(Stream& stream, const Tensor& flags, const Tensor& pressure, const Tensor& velocity,
+void correctVelocity(Stream& stream, const Tensor& masks, const Tensor& pressure, const Tensor& velocity,
                      const Tensor& velocityOut) {
-  const GridSize grid = volumeGrid(flags, "pressure correction (flags)");
+  const GridSize grid = volumeGrid(masks, "pressure correction (masks)");
   requireVolume(pressure, grid, "pressure correction (pressure)");
   requireVector(velocity, grid, "pressure correction (velocity)");
   requireVector(velocityOut, grid, "pressure correction (output velocity)");
-  stream.dispatchFlat(kernel(stream, "pressure_correct"), {flags, pressure, velocity, velocityOut}, push(grid),
-                      grid.cells());
+  dispatchCells(stream, "pressure_correct", {}, {masks, pressure, velocity, velocityOut}, push(grid), grid);
 }
 
 }  // namespace pressure_ops
@@ -151,13 +163,13 @@ PressureSolver::PressureSolver(Context& context, const Tensor& flags, PressureOp
   }
   product_ = Tensor(context, volume);
   preconditioned_ = Tensor(context, volume);
-  partials_ = Tensor(context, {2 * partialCount(grid_.cells())});
+  partials_ = Tensor(context, {2 * partialCount(context_, grid_)});
   scalars_ = Tensor(context, {kScalarSlots});
 
   GridSize size = grid_;
   for (;;) {
-    Level level{size, Tensor(context, size.volume()), {}, Tensor(context, size.volume()),
-                Tensor(context, size.volume()), {}};
+    Level level{size, Tensor(context, size.volume()), Tensor(context, size.volume()), {},
+                Tensor(context, size.volume()), Tensor(context, size.volume()), {}};
     if (!levels_.empty()) {
       level.rhs = Tensor(context, size.volume());
       level.correction = Tensor(context, size.volume());
@@ -175,6 +187,7 @@ void PressureSolver::setFlags(const Tensor& flags) {
   Stream stream(context_);
   stream.copy(flags, levels_[0].flags);
   for (std::size_t l = 1; l < levels_.size(); ++l) coarsenFlags(stream, levels_[l - 1].flags, levels_[l].flags);
+  for (const Level& level : levels_) stencilMasks(stream, level.flags, level.masks);
   ops::fill(stream, solution_[0], 0.0f);
   stream.submit();
   for (int parity = 0; parity < 2; ++parity) {
@@ -196,7 +209,7 @@ void PressureSolver::recordVCycle(Stream& stream, std::size_t level, const Tenso
     for (int s = 0; s < count; ++s) {
       const bool final = s + 1 == count;
       const Tensor& target = final ? last : (x == &L.smoothA ? L.smoothB : L.smoothA);
-      smooth(stream, s == 0 ? firstMode : SmoothMode::Plain, final && withDot, L.flags, rhs, *x, coarse, coarseGrid,
+      smooth(stream, s == 0 ? firstMode : SmoothMode::Plain, final && withDot, L.masks, rhs, *x, coarse, coarseGrid,
              weight, target, partials_);
       x = &target;
     }
@@ -209,18 +222,18 @@ void PressureSolver::recordVCycle(Stream& stream, std::size_t level, const Tenso
   const Tensor& smoothed = nu % 2 == 1 ? L.smoothA : L.smoothB;
   sweeps(nu, SmoothMode::First, nullptr, smoothed, false);
   const Level& next = levels_[level + 1];
-  restrictResidual(stream, L.flags, rhs, smoothed, next.flags, options_.restrictionScale, next.rhs);
+  restrictResidual(stream, L.masks, rhs, smoothed, next.masks, options_.restrictionScale, next.rhs);
   recordVCycle(stream, level + 1, next.rhs, next.correction, false);
   sweeps(nu, SmoothMode::Corrected, &smoothed, out, dot);
 }
 
 void PressureSolver::recordIteration(Stream& stream, int parity) const {
   const int next = 1 - parity;
-  const int64_t groups = partialCount(grid_.cells());
-  const Tensor& flags = levels_[0].flags;
+  const int64_t groups = partialCount(context_, grid_);
+  const Tensor& masks = levels_[0].masks;
   recordVCycle(stream, 0, residual_[parity], preconditioned_, true);
   scalars(stream, ScalarStep::Direction, partials_, groups, scalars_);
-  applyDirection(stream, flags, preconditioned_, direction_[parity], scalars_, direction_[next], product_, partials_);
+  applyDirection(stream, masks, preconditioned_, direction_[parity], scalars_, direction_[next], product_, partials_);
   scalars(stream, ScalarStep::Step, partials_, groups, scalars_);
   update(stream, solution_[parity], residual_[parity], direction_[next], product_, scalars_, solution_[next],
          residual_[next], partials_);
@@ -234,13 +247,13 @@ PressureReport PressureSolver::project(const Tensor& velocity, const Tensor& vel
   requireVector(velocityOut, grid_, "pressure projection (output velocity)");
   if (velocity.sharedBuffer() == velocityOut.sharedBuffer())
     throw Error("pressure projection: the output velocity must not alias the input");
-  const Tensor& flags = levels_[0].flags;
+  const Tensor& masks = levels_[0].masks;
   {
     Stream start(context_);
     if (!options_.warmStart) ops::fill(start, solution_[0], 0.0f);
     ops::fill(start, direction_[0], 0.0f);
-    residual(start, flags, velocity, solution_[0], residual_[0], partials_);
-    scalars(start, ScalarStep::Start, partials_, partialCount(grid_.cells()), scalars_);
+    residual(start, masks, velocity, solution_[0], residual_[0], partials_);
+    scalars(start, ScalarStep::Start, partials_, partialCount(context_, grid_), scalars_);
     start.submit();
   }
   constexpr int kMaxR = 3, kMaxB = 4;  // slots, as in shaders/physics/pressure_scalars.glsl
@@ -260,7 +273,7 @@ PressureReport PressureSolver::project(const Tensor& velocity, const Tensor& vel
   }
   report.relativeResidual = report.initialDivergence > 0 ? report.residual / report.initialDivergence : 0;
   Stream finish(context_);
-  correctVelocity(finish, flags, solution_[parity], velocity, velocityOut);
+  correctVelocity(finish, masks, solution_[parity], velocity, velocityOut);
   if (parity == 1) finish.copy(solution_[1], solution_[0]);
   finish.submit();
   return report;

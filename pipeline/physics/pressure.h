@@ -64,7 +64,7 @@ class PressureSolver {
  private:
   struct Level {
     GridSize grid;
-    Tensor flags, rhs, smoothA, smoothB, correction;
+    Tensor flags, masks, rhs, smoothA, smoothB, correction;
   };
   void recordVCycle(Stream& stream, std::size_t level, const Tensor& rhs, const Tensor& out, bool dot) const;
   void recordIteration(Stream& stream, int parity) const;
@@ -79,22 +79,26 @@ class PressureSolver {
 };
 
 // The building blocks, one dispatch each (the solver composes them; tests check each against a CPU
-// reference). Partial buffers hold one value per workgroup: partialCount(cells) floats, or twice that
-// for pressureResidual. Scalar slots are listed in shaders/physics/pressure_scalars.glsl.
+// reference). The stencil kernels read stencil masks (one per cell: fluid and non-obstacle bits of the
+// cell and its six neighbours; shaders/physics/obstacle_flags.glsl) rather than flags. Partial buffers
+// hold one value per subgroup of a cell dispatch (shaders/physics/pressure_partials.glsl):
+// partialCount(grid) floats, or twice that for residual(). Scalar slots are listed in
+// shaders/physics/pressure_scalars.glsl.
 namespace pressure_ops {
 
 enum class SmoothMode { First = 0, Plain = 1, Corrected = 2 };
 enum class ScalarStep { Start = 0, Direction = 1, Step = 2, Residual = 3 };
 constexpr int kScalarSlots = 8;
 
-int64_t partialCount(int64_t cells);
+int64_t partialCount(const Context& context, const GridSize& grid);
 GridSize coarserGrid(const GridSize& grid);
 
+void stencilMasks(Stream& stream, const Tensor& flags, const Tensor& masks);
 // residual = −div(velocity) − A·pressure at fluid cells; partials: max |b| then max |residual|.
-void residual(Stream& stream, const Tensor& flags, const Tensor& velocity, const Tensor& pressure,
+void residual(Stream& stream, const Tensor& masks, const Tensor& velocity, const Tensor& pressure,
               const Tensor& residual, const Tensor& partials);
 // direction = z + β·directionOld (fluid), product = A·direction, partials = Σ direction·product.
-void applyDirection(Stream& stream, const Tensor& flags, const Tensor& preconditioned, const Tensor& directionOld,
+void applyDirection(Stream& stream, const Tensor& masks, const Tensor& preconditioned, const Tensor& directionOld,
                     const Tensor& scalars, const Tensor& direction, const Tensor& product, const Tensor& partials);
 // solution = solutionOld + α·direction, residual = residualOld − α·product, partials = max |residual|.
 void update(Stream& stream, const Tensor& solutionOld, const Tensor& residualOld, const Tensor& direction,
@@ -104,14 +108,14 @@ void update(Stream& stream, const Tensor& solutionOld, const Tensor& residualOld
 void scalars(Stream& stream, ScalarStep step, const Tensor& partials, int64_t count, const Tensor& scalars);
 // One damped Jacobi sweep; `coarse` (the next level's correction) is read in Corrected mode only and
 // `partials` (Σ rhs·xNew) written only if `dot`.
-void smooth(Stream& stream, SmoothMode mode, bool dot, const Tensor& flags, const Tensor& rhs, const Tensor& x,
+void smooth(Stream& stream, SmoothMode mode, bool dot, const Tensor& masks, const Tensor& rhs, const Tensor& x,
             const Tensor& coarse, const GridSize& coarseGrid, float weight, const Tensor& xNew, const Tensor& partials);
 // coarseRhs = scale · Σ over fluid children of (rhs − A x).
-void restrictResidual(Stream& stream, const Tensor& flags, const Tensor& rhs, const Tensor& x,
-                      const Tensor& coarseFlags, float scale, const Tensor& coarseRhs);
+void restrictResidual(Stream& stream, const Tensor& masks, const Tensor& rhs, const Tensor& x,
+                      const Tensor& coarseMasks, float scale, const Tensor& coarseRhs);
 void coarsenFlags(Stream& stream, const Tensor& flags, const Tensor& coarseFlags);
 // velocityOut = velocity − ∇pressure on faces next to fluid, 0 on faces touching an obstacle.
-void correctVelocity(Stream& stream, const Tensor& flags, const Tensor& pressure, const Tensor& velocity,
+void correctVelocity(Stream& stream, const Tensor& masks, const Tensor& pressure, const Tensor& velocity,
                      const Tensor& velocityOut);
 
 }  // namespace pressure_ops

@@ -5,7 +5,6 @@
 //              fluid    else if any child is fluid,
 //              obstacle otherwise.
 // Index names in obstacle_flags.glsl; size is the fine size.
-#include "index.glsl"
 #include "obstacle_flags.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 
@@ -14,9 +13,8 @@ layout(std430, binding = 1) writeonly buffer CoarseFlags { float coarseFlags[]; 
 layout(push_constant) uniform Push { ivec3 size; int unused; ivec3 coarseSize; };
 
 void main() {
-  const int item = int(flat_index());
-  if (item >= cell_count(coarseSize)) return;
-  const ivec3 coarseCell = cell_of(item, coarseSize);
+  const ivec3 coarseCell = dispatch_cell();
+  if (!in_grid(coarseCell, coarseSize)) return;
   bool anyEmpty = false;
   bool anyFluid = false;
   for (int child = 0; child < 8; ++child) {
@@ -26,5 +24,6 @@ void main() {
     anyEmpty = anyEmpty || (!is_obstacle(flag) && !is_fluid(flag));
     anyFluid = anyFluid || is_fluid(flag);
   }
-  coarseFlags[item] = anyEmpty ? float(FLAG_EMPTY) : (anyFluid ? float(FLAG_FLUID) : float(FLAG_OBSTACLE));
+  coarseFlags[cell_index(coarseCell, coarseSize)] =
+      anyEmpty ? float(FLAG_EMPTY) : (anyFluid ? float(FLAG_FLUID) : float(FLAG_OBSTACLE));
 }

@@ -1,30 +1,22 @@
-// Per-workgroup partial reductions for the pressure solver's dot products and maxima: every invocation
-// of the workgroup calls workgroup_sum / workgroup_max in uniform control flow; invocation 0 gets the
-// result and stores it at partial slot workgroup_slot() (the flat workgroup index of a dispatchFlat).
-// Include after the local_size layout; the workgroup size must be a power of two.
+// Partial reductions for the pressure solver's dot products and maxima, without barriers (they are
+// what costs on CPU devices): each subgroup reduces its invocations' values with subgroup arithmetic
+// and one of them stores the result at its own slot,
+//   partial[offset + (g·S + s)],  g = flat workgroup index of the 3D dispatch, s = subgroup in it,
+// S = gl_NumSubgroups. The host sizes the buffers with the device's subgroup size (pressure.h,
+// partialCount). Every invocation of the workgroup must call store_sum / store_max (subgroup operations
+// need uniform control flow). Including shaders enable GL_KHR_shader_subgroup_arithmetic.
 #ifndef SMOKESVD_PRESSURE_PARTIALS_GLSL
 #define SMOKESVD_PRESSURE_PARTIALS_GLSL
 
-shared float partial_tree[gl_WorkGroupSize.x];
-
-uint workgroup_slot() { return gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x; }
-
-float workgroup_reduce(float value, bool take_max) {
-  const uint local = gl_LocalInvocationIndex;
-  barrier();
-  partial_tree[local] = value;
-  barrier();
-  for (uint half_ = gl_WorkGroupSize.x / 2u; half_ > 0u; half_ /= 2u) {
-    if (local < half_) {
-      const float other = partial_tree[local + half_];
-      partial_tree[local] = take_max ? max(partial_tree[local], other) : partial_tree[local] + other;
-    }
-    barrier();
-  }
-  return partial_tree[0];
+uint partial_slot() {
+  const uint group =
+      gl_WorkGroupID.x + gl_NumWorkGroups.x * (gl_WorkGroupID.y + gl_NumWorkGroups.y * gl_WorkGroupID.z);
+  return group * gl_NumSubgroups + gl_SubgroupID;
 }
 
-float workgroup_sum(float value) { return workgroup_reduce(value, false); }
-float workgroup_max(float value) { return workgroup_reduce(value, true); }
+#define STORE_PARTIAL_SUM(buffer, offset, value) \
+  { const float total_ = subgroupAdd(value); if (subgroupElect()) buffer[(offset) + partial_slot()] = total_; }
+#define STORE_PARTIAL_MAX(buffer, offset, value) \
+  { const float total_ = subgroupMax(value); if (subgroupElect()) buffer[(offset) + partial_slot()] = total_; }
 
 #endif

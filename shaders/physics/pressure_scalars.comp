@@ -1,27 +1,37 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The conjugate-gradient scalars from per-workgroup partials, in one workgroup (slots in
+// The conjugate-gradient scalars from per-subgroup partials, in one workgroup (slots in
 // pressure_scalars.glsl; n partials per set):
 //   STEP 0 (start):     max_b = max partial[0..n),  max_r = max partial[n..2n),  rz = α = β = 0
 //   STEP 1 (direction): rz_new = Σ partial,  β = rz_new / rz (0 while rz = 0),  rz = rz_new
 //   STEP 2 (step):      pAp = Σ partial,  α = rz / pAp (0 if pAp = 0)
 //   STEP 3 (residual):  max_r = max partial
+// Each invocation reduces a strided share, then a tree in shared memory.
 #include "pressure_scalars.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int STEP = 0;
-#include "pressure_partials.glsl"
 
 layout(binding = 0) uniform samplerBuffer partial;
 layout(std430, binding = 1) buffer Scalars { float scalar[]; };
 layout(push_constant) uniform Push { uint n; };
 
+shared float tree[gl_WorkGroupSize.x];
+
 float reduceSet(uint offset, bool take_max) {
+  const uint local = gl_LocalInvocationIndex;
   float value = 0.0;
-  for (uint i = gl_LocalInvocationIndex; i < n; i += gl_WorkGroupSize.x) {
+  for (uint i = local; i < n; i += gl_WorkGroupSize.x) {
     const float v = texelFetch(partial, int(offset + i)).x;
     value = take_max ? max(value, v) : value + v;
   }
-  return workgroup_reduce(value, take_max);
+  barrier();
+  tree[local] = value;
+  barrier();
+  for (uint half_ = gl_WorkGroupSize.x / 2u; half_ > 0u; half_ /= 2u) {
+    if (local < half_) tree[local] = take_max ? max(tree[local], tree[local + half_]) : tree[local] + tree[local + half_];
+    barrier();
+  }
+  return tree[0];
 }
 
 void main() {

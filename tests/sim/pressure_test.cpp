@@ -26,6 +26,10 @@ class PressureKernelTest : public GpuTest {
     GpuTest::SetUp();
     flagValues = sim::randomFlags(kGrid, 7);
     flags = Tensor::fromHost(context(), kGrid.volume(), flagValues);
+    masks = Tensor(context(), kGrid.volume());
+    Stream stream(context());
+    stencilMasks(stream, flags, masks);
+    stream.submit();
   }
   // A random volume that is 0 outside the fluid, as the solver's vectors are.
   Tensor fluidVolume(uint64_t seed, Field* values) {
@@ -39,12 +43,20 @@ class PressureKernelTest : public GpuTest {
     values.resize(kScalarSlots, 0.0f);
     return Tensor::fromHost(context(), {kScalarSlots}, values);
   }
-  Tensor partials(int sets = 1) { return poisonedTensor(context(), {sets * partialCount(kGrid.cells())}); }
+  Tensor partials(int sets = 1) { return poisonedTensor(context(), {sets * partialCount(context(), kGrid)}); }
   FlagView view() const { return FlagView(kGrid, flagValues); }
 
   std::vector<float> flagValues;
-  Tensor flags;
+  Tensor flags, masks;
 };
+
+TEST_F(PressureKernelTest, StencilMasksFromFlags) {
+  Tensor out = poisonedTensor(context(), kGrid.volume());
+  Stream stream(context());
+  stencilMasks(stream, flags, out);
+  stream.submit();
+  EXPECT_TRUE(allClose(out, sim::stencilMasks(view()), {0, 0}));
+}
 
 TEST_F(PressureKernelTest, ResidualIsMinusDivergenceMinusLaplacian) {
   std::vector<float> velocityValues;
@@ -55,8 +67,8 @@ TEST_F(PressureKernelTest, ResidualIsMinusDivergenceMinusLaplacian) {
   Tensor partial = partials(2);
   Tensor scalars = scalarBuffer({});
   Stream stream(context());
-  pressure_ops::residual(stream, flags, velocity, pressure, residual, partial);
-  pressure_ops::scalars(stream, ScalarStep::Start, partial, partialCount(kGrid.cells()), scalars);
+  pressure_ops::residual(stream, masks, velocity, pressure, residual, partial);
+  pressure_ops::scalars(stream, ScalarStep::Start, partial, partialCount(context(), kGrid), scalars);
   stream.submit();
 
   const Field div = sim::divergence(view(), sim::widen(velocityValues));
@@ -85,8 +97,8 @@ TEST_F(PressureKernelTest, ApplyDirectionAndStepLength) {
   Tensor product = poisonedTensor(context(), kGrid.volume());
   Tensor partial = partials();
   Stream stream(context());
-  applyDirection(stream, flags, tz, tpOld, scalars, direction, product, partial);
-  pressure_ops::scalars(stream, ScalarStep::Step, partial, partialCount(kGrid.cells()), scalars);
+  applyDirection(stream, masks, tz, tpOld, scalars, direction, product, partial);
+  pressure_ops::scalars(stream, ScalarStep::Step, partial, partialCount(context(), kGrid), scalars);
   stream.submit();
 
   Field p(z.size());
@@ -114,7 +126,7 @@ TEST_F(PressureKernelTest, UpdateStepsAlongTheDirection) {
   Tensor partial = partials();
   Stream stream(context());
   update(stream, tx, tr, tp, tq, scalars, xNew, rNew, partial);
-  pressure_ops::scalars(stream, ScalarStep::Residual, partial, partialCount(kGrid.cells()), scalars);
+  pressure_ops::scalars(stream, ScalarStep::Residual, partial, partialCount(context(), kGrid), scalars);
   stream.submit();
 
   Field expectedX(x.size()), expectedR(x.size());
@@ -162,8 +174,8 @@ TEST_F(PressureKernelTest, JacobiSweepsInEveryMode) {
     Tensor partial = partials();
     Tensor scalars = scalarBuffer({});
     Stream stream(context());
-    smooth(stream, c.mode, true, flags, trhs, tx, coarse, coarseGrid, weight, xNew, partial);
-    pressure_ops::scalars(stream, ScalarStep::Direction, partial, partialCount(kGrid.cells()), scalars);
+    smooth(stream, c.mode, true, masks, trhs, tx, coarse, coarseGrid, weight, xNew, partial);
+    pressure_ops::scalars(stream, ScalarStep::Direction, partial, partialCount(context(), kGrid), scalars);
     stream.submit();
     const Field expected = sim::jacobiSweep(view(), rhs, c.start, weight);
     EXPECT_TRUE(allClose(xNew, expected)) << "mode " << static_cast<int>(c.mode);
@@ -177,10 +189,12 @@ TEST_F(PressureKernelTest, RestrictionAndCoarseFlags) {
   Tensor tx = fluidVolume(62, &x);
   const GridSize coarseGrid = coarserGrid(kGrid);
   Tensor coarseFlags = poisonedTensor(context(), coarseGrid.volume());
+  Tensor coarseMasks = poisonedTensor(context(), coarseGrid.volume());
   Tensor coarseRhs = poisonedTensor(context(), coarseGrid.volume());
   Stream stream(context());
   coarsenFlags(stream, flags, coarseFlags);
-  restrictResidual(stream, flags, trhs, tx, coarseFlags, 0.5f, coarseRhs);
+  stencilMasks(stream, coarseFlags, coarseMasks);
+  restrictResidual(stream, masks, trhs, tx, coarseMasks, 0.5f, coarseRhs);
   stream.submit();
   const std::vector<float> expectedFlags = sim::coarsenFlags(view(), coarseGrid);
   EXPECT_TRUE(allClose(coarseFlags, expectedFlags, {0, 0}));
@@ -195,7 +209,7 @@ TEST_F(PressureKernelTest, VelocityCorrection) {
   Tensor pressure = fluidVolume(72, &pressureValues);
   Tensor out = poisonedTensor(context(), kGrid.vector());
   Stream stream(context());
-  correctVelocity(stream, flags, pressure, velocity, out);
+  correctVelocity(stream, masks, pressure, velocity, out);
   stream.submit();
   EXPECT_TRUE(allClose(out, sim::correctVelocity(view(), pressureValues, sim::widen(velocityValues))));
 }

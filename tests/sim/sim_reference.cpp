@@ -102,6 +102,22 @@ Field restrictResidual(const FlagView& fine, const Field& rhs, const Field& x, c
   return result;
 }
 
+std::vector<float> stencilMasks(const FlagView& flags) {
+  const int64_t cells = flags.grid().cells();
+  std::vector<float> masks(static_cast<std::size_t>(cells));
+  for (int64_t index = 0; index < cells; ++index) {
+    const Cell c = flags.cell(index);
+    uint32_t mask = (flags.fluid(c) ? 1u : 0u) | (flags.obstacle(c) ? 0u : 2u);
+    for (int n = 0; n < 6; ++n) {
+      const Cell neighbour = step(c, n / 2, n % 2 == 0 ? -1 : 1);
+      if (!flags.obstacle(neighbour)) mask |= 4u << n;
+      if (flags.fluid(neighbour)) mask |= 256u << n;
+    }
+    masks[index] = static_cast<float>(mask);
+  }
+  return masks;
+}
+
 std::vector<float> coarsenFlags(const FlagView& fine, const GridSize& coarse) {
   std::vector<float> result(static_cast<std::size_t>(coarse.cells()));
   for (int64_t index = 0; index < coarse.cells(); ++index) {

@@ -48,6 +48,7 @@ Field laplacian(const FlagView& flags, const Field& x);          // A x, 0 outsi
 std::vector<int> nonObstacleNeighbours(const FlagView& flags);
 Field jacobiSweep(const FlagView& flags, const Field& rhs, const Field& x, double weight);
 Field restrictResidual(const FlagView& fine, const Field& rhs, const Field& x, const FlagView& coarse, double scale);
+std::vector<float> stencilMasks(const FlagView& flags);  // bit layout in shaders/physics/obstacle_flags.glsl
 std::vector<float> coarsenFlags(const FlagView& fine, const GridSize& coarse);
 Field prolongAdd(const FlagView& fine, const Field& x, const Field& coarse, const GridSize& coarseGrid);
 Field correctVelocity(const FlagView& flags, const Field& pressure, const Field& velocity);
