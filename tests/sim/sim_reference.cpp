@@ -164,6 +164,108 @@ Field correctVelocity(const FlagView& flags, const Field& pressure, const Field&
   return result;
 }
 
+bool forceActs(const FlagView& flags, Cell c, int axis) {
+  const Cell m = step(c, axis, -1);
+  return !flags.obstacle(c) && !flags.obstacle(m) && (flags.fluid(c) || flags.fluid(m));
+}
+
+Field addBuoyancy(const FlagView& flags, const Field& density, const Field& temperature, const Field& velocity,
+                  const Vec3d& uniform, const Vec3d& perDensity, const Vec3d& perTemperature, double dt) {
+  const int64_t cells = flags.grid().cells();
+  Field result = velocity;
+  for (int64_t index = 0; index < cells; ++index) {
+    const Cell c = flags.cell(index);
+    for (int a = 0; a < 3; ++a) {
+      if (!forceActs(flags, c, a)) continue;
+      const int64_t m = flags.index(step(c, a, -1));
+      result[a * cells + index] += dt * (uniform[a] + perDensity[a] * 0.5 * (density[index] + density[m]) +
+                                         perTemperature[a] * 0.5 * (temperature[index] + temperature[m]));
+    }
+  }
+  return result;
+}
+
+Field addForceField(const FlagView& flags, const Field& force, const Field& velocity, double dt) {
+  const int64_t cells = flags.grid().cells();
+  Field result = velocity;
+  for (int64_t index = 0; index < cells; ++index) {
+    const Cell c = flags.cell(index);
+    for (int a = 0; a < 3; ++a) {
+      if (!forceActs(flags, c, a)) continue;
+      const int64_t m = flags.index(step(c, a, -1));
+      result[a * cells + index] += dt * 0.5 * (force[a * cells + index] + force[a * cells + m]);
+    }
+  }
+  return result;
+}
+
+namespace {
+
+bool interior(const GridSize& g, Cell c) {
+  return c.i > 0 && c.j > 0 && c.k > 0 && c.i < g.x - 1 && c.j < g.y - 1 && c.k < g.z - 1;
+}
+
+}  // namespace
+
+Field vorticityField(const GridSize& grid, const Field& velocity) {
+  const int64_t cells = grid.cells();
+  auto index = [&](Cell c) { return c.i + grid.x * (c.j + grid.y * c.k); };
+  // Centred velocity, 0 on the outer layer (mantaflow's GetCentered with bnd = 1).
+  Field centred(static_cast<std::size_t>(3 * cells), 0.0);
+  for (int64_t k = 0; k < grid.z; ++k)
+    for (int64_t j = 0; j < grid.y; ++j)
+      for (int64_t i = 0; i < grid.x; ++i) {
+        const Cell c{i, j, k};
+        if (!interior(grid, c)) continue;
+        for (int a = 0; a < 3; ++a)
+          centred[a * cells + index(c)] = 0.5 * (velocity[a * cells + index(c)] + velocity[a * cells + index(step(c, a, 1))]);
+      }
+  auto derivative = [&](int component, int along, Cell c) {
+    return 0.5 * (centred[component * cells + index(step(c, along, 1))] -
+                  centred[component * cells + index(step(c, along, -1))]);
+  };
+  Field result(static_cast<std::size_t>(4 * cells), 0.0);
+  for (int64_t k = 0; k < grid.z; ++k)
+    for (int64_t j = 0; j < grid.y; ++j)
+      for (int64_t i = 0; i < grid.x; ++i) {
+        const Cell c{i, j, k};
+        if (!interior(grid, c)) continue;
+        const Vec3d omega{derivative(2, 1, c) - derivative(1, 2, c), derivative(0, 2, c) - derivative(2, 0, c),
+                          derivative(1, 0, c) - derivative(0, 1, c)};
+        for (int a = 0; a < 3; ++a) result[a * cells + index(c)] = omega[a];
+        result[3 * cells + index(c)] = std::sqrt(omega[0] * omega[0] + omega[1] * omega[1] + omega[2] * omega[2]);
+      }
+  return result;
+}
+
+Field addVorticityConfinement(const FlagView& flags, const Field& vorticity, const Field& velocity, double strength,
+                              double dt) {
+  const GridSize& grid = flags.grid();
+  const int64_t cells = grid.cells();
+  auto force = [&](Cell c) -> Vec3d {
+    if (!interior(grid, c)) return {0, 0, 0};
+    Vec3d gradient;
+    for (int a = 0; a < 3; ++a)
+      gradient[a] = 0.5 * (vorticity[3 * cells + flags.index(step(c, a, 1))] - vorticity[3 * cells + flags.index(step(c, a, -1))]);
+    const double norm = std::sqrt(gradient[0] * gradient[0] + gradient[1] * gradient[1] + gradient[2] * gradient[2]);
+    if (norm <= 1e-20) return {0, 0, 0};
+    for (double& g : gradient) g /= norm;
+    const int64_t at = flags.index(c);
+    const Vec3d w{vorticity[at], vorticity[cells + at], vorticity[2 * cells + at]};
+    return {strength * (gradient[1] * w[2] - gradient[2] * w[1]), strength * (gradient[2] * w[0] - gradient[0] * w[2]),
+            strength * (gradient[0] * w[1] - gradient[1] * w[0])};
+  };
+  Field result = velocity;
+  for (int64_t index = 0; index < cells; ++index) {
+    const Cell c = flags.cell(index);
+    for (int a = 0; a < 3; ++a) {
+      if (!forceActs(flags, c, a)) continue;
+      result[a * cells + index] += dt * 0.5 * (force(c)[a] + force(step(c, a, -1))[a]);
+    }
+  }
+  return result;
+}
+
 double maxAbs(const Field& values) {
   double m = 0;
   for (double v : values) m = std::max(m, std::abs(v));

@@ -53,6 +53,16 @@ std::vector<float> coarsenFlags(const FlagView& fine, const GridSize& coarse);
 Field prolongAdd(const FlagView& fine, const Field& x, const Field& coarse, const GridSize& coarseGrid);
 Field correctVelocity(const FlagView& flags, const Field& pressure, const Field& velocity);
 
+// Forces (mirror shaders/physics/buoyancy.comp, force_field.comp, vorticity_*.comp).
+using Vec3d = std::array<double, 3>;
+bool forceActs(const FlagView& flags, Cell c, int axis);
+Field addBuoyancy(const FlagView& flags, const Field& density, const Field& temperature, const Field& velocity,
+                  const Vec3d& uniform, const Vec3d& perDensity, const Vec3d& perTemperature, double dt);
+Field addForceField(const FlagView& flags, const Field& force, const Field& velocity, double dt);
+Field vorticityField(const GridSize& grid, const Field& velocity);  // [4, D, H, W]
+Field addVorticityConfinement(const FlagView& flags, const Field& vorticity, const Field& velocity, double strength,
+                              double dt);
+
 double maxAbs(const Field& values);
 double dot(const Field& a, const Field& b);
 

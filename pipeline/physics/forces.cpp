@@ -1,0 +1,87 @@
+#include "pipeline/physics/forces.h"
+
+#include <string>
+
+#include "runtime/error.h"
+
+namespace smokesvd::physics {
+namespace {
+
+constexpr std::array<uint32_t, 3> kCellWorkgroup{8, 4, 4};
+
+struct GridPush {
+  int32_t x, y, z;
+};
+GridPush push(const GridSize& grid) {
+  return {static_cast<int32_t>(grid.x), static_cast<int32_t>(grid.y), static_cast<int32_t>(grid.z)};
+}
+
+template <typename Push>
+void dispatchCells(Stream& stream, const char* name, std::initializer_list<Arg> args, const Push& push,
+                   const GridSize& grid) {
+  auto groups = [](int64_t n, uint32_t size) { return static_cast<uint32_t>((n + size - 1) / size); };
+  stream.dispatch(stream.kernel(std::string("physics/") + name, kCellWorkgroup), args, push,
+                  {groups(grid.x, kCellWorkgroup[0]), groups(grid.y, kCellWorkgroup[1]),
+                   groups(grid.z, kCellWorkgroup[2])});
+}
+
+// The grid of `flags`, after checking that velocity and out are MAC fields of it and distinct.
+GridSize checkedGrid(const Tensor& flags, const Tensor& velocity, const Tensor& out, const char* what) {
+  const GridSize grid = volumeGrid(flags, what);
+  requireVector(velocity, grid, what);
+  requireVector(out, grid, what);
+  if (velocity.sharedBuffer() == out.sharedBuffer())
+    throw Error(std::string(what) + ": the output velocity must not alias the input");
+  return grid;
+}
+
+}  // namespace
+
+void addBuoyancy(Stream& stream, const Tensor& flags, const Tensor& density, const Tensor* temperature,
+                 const Tensor& velocity, const Buoyancy& buoyancy, float dt, const Tensor& out) {
+  const GridSize grid = checkedGrid(flags, velocity, out, "buoyancy");
+  requireVolume(density, grid, "buoyancy (density)");
+  if (temperature) requireVolume(*temperature, grid, "buoyancy (temperature)");
+  auto vec4 = [](const Vec3& v) { return std::array<float, 4>{v[0], v[1], v[2], 0.0f}; };
+  const Vec3 perTemperature = temperature ? buoyancy.perTemperature : Vec3{0, 0, 0};
+  struct {
+    GridPush size;
+    float dt;
+    std::array<float, 4> uniform, perDensity, perTemperature;
+  } p{push(grid), dt, vec4(buoyancy.uniform), vec4(buoyancy.perDensity), vec4(perTemperature)};
+  dispatchCells(stream, "buoyancy", {flags, density, temperature ? *temperature : density, velocity, out}, p, grid);
+}
+
+void addForceField(Stream& stream, const Tensor& flags, const Tensor& force, const Tensor& velocity, float dt,
+                   const Tensor& out) {
+  const GridSize grid = checkedGrid(flags, velocity, out, "force field");
+  requireVector(force, grid, "force field (force)");
+  struct {
+    GridPush size;
+    float dt;
+  } p{push(grid), dt};
+  dispatchCells(stream, "force_field", {flags, force, velocity, out}, p, grid);
+}
+
+void vorticityField(Stream& stream, const Tensor& velocity, const Tensor& vorticity) {
+  const GridSize grid = vectorGrid(velocity, "vorticity (velocity)");
+  if (vorticity.shape() != Shape{4, grid.z, grid.y, grid.x})
+    throw Error("vorticity: expected the output [4, " + std::to_string(grid.z) + ", " + std::to_string(grid.y) + ", " +
+                std::to_string(grid.x) + "], got " + toString(vorticity.shape()));
+  dispatchCells(stream, "vorticity_field", {velocity, vorticity}, push(grid), grid);
+}
+
+void addVorticityConfinement(Stream& stream, const Tensor& flags, const Tensor& vorticity, const Tensor& velocity,
+                             float strength, float dt, const Tensor& out) {
+  const GridSize grid = checkedGrid(flags, velocity, out, "vorticity confinement");
+  if (vorticity.shape() != Shape{4, grid.z, grid.y, grid.x})
+    throw Error("vorticity confinement: expected a vorticity field [4, D, H, W] of the grid, got " +
+                toString(vorticity.shape()));
+  struct {
+    GridPush size;
+    float dt, strength;
+  } p{push(grid), dt, strength};
+  dispatchCells(stream, "vorticity_force", {flags, vorticity, velocity, out}, p, grid);
+}
+
+}  // namespace smokesvd::physics
