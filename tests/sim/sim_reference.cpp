@@ -266,6 +266,111 @@ Field addVorticityConfinement(const FlagView& flags, const Field& vorticity, con
   return result;
 }
 
+double sourceCoverage(const physics::SourceState& source, const Vec3d& p) {
+  const Vec3d d{p[0] - source.centre[0], p[1] - source.centre[1], p[2] - source.centre[2]};
+  auto length3 = [](double x, double y, double z) { return std::sqrt(x * x + y * y + z * z); };
+  double sdf = 0;
+  if (source.shape == physics::SourceShape::Sphere) {
+    sdf = length3(d[0], d[1], d[2]) - source.size[0];
+  } else if (source.shape == physics::SourceShape::Box) {
+    Vec3d q;
+    for (int a = 0; a < 3; ++a) q[a] = std::abs(d[a]) - source.size[a];
+    sdf = length3(std::max(q[0], 0.0), std::max(q[1], 0.0), std::max(q[2], 0.0)) +
+          std::min(std::max({q[0], q[1], q[2]}), 0.0);
+  } else {
+    const double axisLength = length3(source.axis[0], source.axis[1], source.axis[2]);
+    const Vec3d axis{source.axis[0] / axisLength, source.axis[1] / axisLength, source.axis[2] / axisLength};
+    const double along = d[0] * axis[0] + d[1] * axis[1] + d[2] * axis[2];
+    const double radial = length3(d[0] - along * axis[0], d[1] - along * axis[1], d[2] - along * axis[2]);
+    const double qx = radial - source.size[0], qy = std::abs(along) - source.size[1];
+    sdf = std::sqrt(std::max(qx, 0.0) * std::max(qx, 0.0) + std::max(qy, 0.0) * std::max(qy, 0.0)) +
+          std::min(std::max(qx, qy), 0.0);
+  }
+  return std::clamp(0.5 - sdf, 0.0, 1.0);
+}
+
+namespace {
+
+double latticeValue(int64_t x, int64_t y, int64_t z, uint32_t seed) {
+  uint32_t h = static_cast<uint32_t>(x) * 0x8da6b343u ^ static_cast<uint32_t>(y) * 0xd8163841u ^
+               static_cast<uint32_t>(z) * 0xcb1ab31fu ^ seed * 0x9e3779b9u;
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return static_cast<double>(h >> 8) / 16777216.0;
+}
+
+}  // namespace
+
+double sourceNoise(const physics::SourceState& source, const Vec3d& p) {
+  Vec3d x, w;
+  std::array<int64_t, 3> base;
+  for (int a = 0; a < 3; ++a) {
+    x[a] = (p[a] + source.noiseOffset[a]) / std::max(static_cast<double>(source.noiseScale), 1e-3);
+    base[a] = static_cast<int64_t>(std::floor(x[a]));
+    w[a] = x[a] - static_cast<double>(base[a]);
+  }
+  double value = 0;
+  for (int n = 0; n < 8; ++n) {
+    const int dx = n & 1, dy = (n >> 1) & 1, dz = n >> 2;
+    const double weight = (dx ? w[0] : 1 - w[0]) * (dy ? w[1] : 1 - w[1]) * (dz ? w[2] : 1 - w[2]);
+    value += weight * latticeValue(base[0] + dx, base[1] + dy, base[2] + dz, source.noiseSeed & 0xffffffu);
+  }
+  return value;
+}
+
+void inflowFields(const FlagView& flags, const Field& density, const Field& temperature,
+                  const std::vector<physics::SourceState>& sources, double dt, Field& densityInflow,
+                  Field& temperatureInflow) {
+  const int64_t cells = flags.grid().cells();
+  densityInflow.assign(static_cast<std::size_t>(cells), 0.0);
+  temperatureInflow.assign(static_cast<std::size_t>(cells), 0.0);
+  for (int64_t index = 0; index < cells; ++index) {
+    const Cell c = flags.cell(index);
+    if (!flags.fluid(c)) continue;
+    const Vec3d p{static_cast<double>(c.i) + 0.5, static_cast<double>(c.j) + 0.5, static_cast<double>(c.k) + 0.5};
+    double targetRho = 0, targetT = 0, addedRho = 0, addedT = 0;
+    for (const physics::SourceState& s : sources) {
+      const double w = sourceCoverage(s, p);
+      if (w <= 0) continue;
+      const double modulation = s.noiseAmplitude > 0 ? 1 + s.noiseAmplitude * (2 * sourceNoise(s, p) - 1) : 1;
+      const double rho = s.density * modulation * w, t = s.temperature * w;
+      if (s.mode == physics::InflowMode::Set) {
+        targetRho = std::max(targetRho, rho);
+        targetT = std::max(targetT, t);
+      } else {
+        addedRho += dt * rho;
+        addedT += dt * t;
+      }
+    }
+    densityInflow[index] = std::max(targetRho - density[index], 0.0) + addedRho;
+    temperatureInflow[index] = std::max(targetT - temperature[index], 0.0) + addedT;
+  }
+}
+
+Field applySourceVelocity(const FlagView& flags, const std::vector<physics::SourceState>& sources,
+                          const Field& velocity) {
+  const int64_t cells = flags.grid().cells();
+  Field result = velocity;
+  for (int64_t index = 0; index < cells; ++index) {
+    const Cell c = flags.cell(index);
+    for (int a = 0; a < 3; ++a) {
+      if (flags.obstacle(c) || flags.obstacle(step(c, a, -1))) continue;
+      Vec3d p{static_cast<double>(c.i) + 0.5, static_cast<double>(c.j) + 0.5, static_cast<double>(c.k) + 0.5};
+      p[a] -= 0.5;
+      double& u = result[a * cells + index];
+      for (const physics::SourceState& s : sources) {
+        if (!s.setsVelocity) continue;
+        const double w = sourceCoverage(s, p);
+        u = u + (s.velocity[a] - u) * w;
+      }
+    }
+  }
+  return result;
+}
+
 double maxAbs(const Field& values) {
   double m = 0;
   for (double v : values) m = std::max(m, std::abs(v));

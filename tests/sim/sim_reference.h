@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pipeline/physics/grid.h"
+#include "pipeline/physics/sources.h"
 
 namespace smokesvd::testing::sim {
 
@@ -62,6 +63,15 @@ Field addForceField(const FlagView& flags, const Field& force, const Field& velo
 Field vorticityField(const GridSize& grid, const Field& velocity);  // [4, D, H, W]
 Field addVorticityConfinement(const FlagView& flags, const Field& vorticity, const Field& velocity, double strength,
                               double dt);
+
+// Inflow (mirror shaders/physics/inflow_*.comp).
+double sourceCoverage(const physics::SourceState& source, const Vec3d& p);
+double sourceNoise(const physics::SourceState& source, const Vec3d& p);
+void inflowFields(const FlagView& flags, const Field& density, const Field& temperature,
+                  const std::vector<physics::SourceState>& sources, double dt, Field& densityInflow,
+                  Field& temperatureInflow);
+Field applySourceVelocity(const FlagView& flags, const std::vector<physics::SourceState>& sources,
+                          const Field& velocity);
 
 double maxAbs(const Field& values);
 double dot(const Field& a, const Field& b);

@@ -1,0 +1,108 @@
+#include "pipeline/physics/sources.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "runtime/error.h"
+
+namespace smokesvd::physics {
+namespace {
+
+constexpr int kTexelsPerSource = 6;  // shaders/physics/inflow_sources.glsl
+constexpr int kFloatsPerSource = 4 * kTexelsPerSource;
+constexpr std::array<uint32_t, 3> kCellWorkgroup{8, 4, 4};
+
+struct GridPush {
+  int32_t x, y, z;
+};
+GridPush push(const GridSize& grid) {
+  return {static_cast<int32_t>(grid.x), static_cast<int32_t>(grid.y), static_cast<int32_t>(grid.z)};
+}
+
+template <typename Push>
+void dispatchCells(Stream& stream, const char* name, std::initializer_list<Arg> args, const Push& push,
+                   const GridSize& grid) {
+  auto groups = [](int64_t n, uint32_t size) { return static_cast<uint32_t>((n + size - 1) / size); };
+  stream.dispatch(stream.kernel(std::string("physics/") + name, kCellWorkgroup), args, push,
+                  {groups(grid.x, kCellWorkgroup[0]), groups(grid.y, kCellWorkgroup[1]),
+                   groups(grid.z, kCellWorkgroup[2])});
+}
+
+std::array<float, 3> normalised(std::array<float, 3> v) {
+  const float length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (length <= 0) throw Error("inflow source: a cylinder axis must not be zero");
+  return {v[0] / length, v[1] / length, v[2] / length};
+}
+
+}  // namespace
+
+SourceTable::SourceTable(Context& context, int capacity)
+    : table_(context, {std::max(capacity, 1) * kFloatsPerSource}), capacity_(std::max(capacity, 1)) {
+  write({});
+}
+
+void SourceTable::write(std::span<const SourceState> states) {
+  if (static_cast<int>(states.size()) > capacity_)
+    throw Error("inflow sources: " + std::to_string(states.size()) + " sources, the table holds " +
+                std::to_string(capacity_));
+  std::vector<float> values(static_cast<std::size_t>(capacity_ * kFloatsPerSource), 0.0f);
+  for (std::size_t s = 0; s < states.size(); ++s) {
+    const SourceState& state = states[s];
+    const std::array<float, 3> axis = state.shape == SourceShape::Cylinder ? normalised(state.axis) : state.axis;
+    const float rows[kTexelsPerSource][4] = {
+        {state.centre[0], state.centre[1], state.centre[2], static_cast<float>(state.shape)},
+        {state.size[0], state.size[1], state.size[2], static_cast<float>(state.mode)},
+        {axis[0], axis[1], axis[2], state.density},
+        {state.velocity[0], state.velocity[1], state.velocity[2], state.setsVelocity ? 1.0f : 0.0f},
+        {state.temperature, state.noiseAmplitude, state.noiseScale, static_cast<float>(state.noiseSeed & 0xffffffu)},
+        {state.noiseOffset[0], state.noiseOffset[1], state.noiseOffset[2], 0.0f},
+    };
+    for (int t = 0; t < kTexelsPerSource; ++t)
+      for (int c = 0; c < 4; ++c) values[s * kFloatsPerSource + t * 4 + c] = rows[t][c];
+  }
+  table_.upload(values);
+  count_ = static_cast<int>(states.size());
+}
+
+void inflowFields(Stream& stream, const Tensor& flags, const Tensor& density, const Tensor* temperature,
+                  const SourceTable& sources, float dt, const Tensor& densityInflow, const Tensor* temperatureInflow) {
+  const GridSize grid = volumeGrid(flags, "inflow (flags)");
+  requireVolume(density, grid, "inflow (density)");
+  requireVolume(densityInflow, grid, "inflow (density inflow)");
+  if ((temperature == nullptr) != (temperatureInflow == nullptr))
+    throw Error("inflow: give both the temperature and its inflow, or neither");
+  if (temperature) {
+    requireVolume(*temperature, grid, "inflow (temperature)");
+    requireVolume(*temperatureInflow, grid, "inflow (temperature inflow)");
+  }
+  // Without a temperature field the kernel reads the density and writes its temperature inflow into a
+  // scratch volume nobody reads.
+  const Tensor scratch = temperature ? Tensor() : Tensor(stream.context(), grid.volume());
+  struct {
+    GridPush size;
+    int32_t sources;
+    float dt;
+  } p{push(grid), sources.count(), dt};
+  dispatchCells(stream, "inflow_density",
+                {flags, density, temperature ? *temperature : density, asVec4(sources.table()), densityInflow,
+                 temperatureInflow ? *temperatureInflow : scratch},
+                p, grid);
+}
+
+void applySourceVelocity(Stream& stream, const Tensor& flags, const SourceTable& sources, const Tensor& velocity,
+                         const Tensor& out) {
+  const GridSize grid = volumeGrid(flags, "source velocity (flags)");
+  requireVector(velocity, grid, "source velocity (velocity)");
+  requireVector(out, grid, "source velocity (output)");
+  if (velocity.sharedBuffer() == out.sharedBuffer())
+    throw Error("source velocity: the output velocity must not alias the input");
+  struct {
+    GridPush size;
+    int32_t sources;
+  } p{push(grid), sources.count()};
+  dispatchCells(stream, "inflow_velocity", {flags, asVec4(sources.table()), velocity, out}, p, grid);
+}
+
+}  // namespace smokesvd::physics
