@@ -196,6 +196,13 @@ void PressureSolver::setFlags(const Tensor& flags) {
   }
 }
 
+void PressureSolver::setPressure(const Tensor& pressure) {
+  requireVolume(pressure, grid_, "pressure solver (initial pressure)");
+  Stream stream(context_);
+  stream.copy(pressure, solution_[0]);
+  stream.submit();
+}
+
 void PressureSolver::recordVCycle(Stream& stream, std::size_t level, const Tensor& rhs, const Tensor& out,
                                   bool dot) const {
   const Level& L = levels_[level];

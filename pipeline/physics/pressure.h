@@ -54,6 +54,8 @@ class PressureSolver {
 
   // New obstacles or open sides: rebuilds the multigrid flags and forgets the previous pressure.
   void setFlags(const Tensor& flags);
+  // Sets the pressure the next solve starts from (a checkpoint's), [D, H, W].
+  void setPressure(const Tensor& pressure);
 
   const GridSize& grid() const { return grid_; }
   const PressureOptions& options() const { return options_; }
