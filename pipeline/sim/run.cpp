@@ -45,8 +45,7 @@ RunResult runScene(Context& context, const Scene& scene, const fs::path& directo
   RunResult result;
   fs::create_directories(directory);
   if (options.overwrite) {
-    fs::remove(directory / "run.json");
-    fs::remove(directory / "checkpoint.npz");
+    for (const char* stale : {"run.json", "checkpoint.npz", "flags.npz", "fields", "renders"}) fs::remove_all(directory / stale);
   } else if (holdsScene(directory, scene) && isComplete(directory)) {
     result.complete = true;
     return result;
