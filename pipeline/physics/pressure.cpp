@@ -71,7 +71,7 @@ void residual(Stream& stream, const Tensor& masks, const Tensor& velocity, const
   requireVolume(pressure, grid, "pressure residual (pressure)");
   requireVolume(residual, grid, "pressure residual (residual)");
   const int64_t groups = partialCount(stream.context(), grid);
-  requirePartials(partials, 2 * groups, "pressure residual");
+  requirePartials(partials, 3 * groups, "pressure residual");
   struct { GridPush size; uint32_t count; } p{push(grid), static_cast<uint32_t>(groups)};
   dispatchCells(stream, "pressure_residual", {}, {masks, velocity, pressure, residual, partials}, p, grid);
 }
@@ -97,13 +97,26 @@ void update(Stream& stream, const Tensor& solutionOld, const Tensor& residualOld
                 {solutionOld, residualOld, direction, product, scalars, solution, residual, partials}, push(grid), grid);
 }
 
-void scalars(Stream& stream, ScalarStep step, const Tensor& partials, int64_t count, const Tensor& scalars) {
+void scalars(Stream& stream, ScalarStep step, const Tensor& partials, int64_t count, const Tensor& scalars,
+             int64_t fluidCells) {
   if (scalars.numel() < kScalarSlots)
     throw Error("pressure scalars: the scalar buffer needs " + std::to_string(kScalarSlots) + " floats");
-  requirePartials(partials, step == ScalarStep::Start ? 2 * count : count, "pressure scalars");
+  requirePartials(partials, step == ScalarStep::Start ? 3 * count : count, "pressure scalars");
   const Kernel& k = stream.kernel("physics/pressure_scalars", {kScalarWorkgroup, 1, 1}, {static_cast<int32_t>(step)});
-  struct { uint32_t n; } p{static_cast<uint32_t>(count)};
+  struct {
+    uint32_t n;
+    float inverseFluidCells;
+  } p{static_cast<uint32_t>(count), fluidCells > 0 ? 1.0f / static_cast<float>(fluidCells) : 0.0f};
   stream.dispatch(k, {partials, scalars}, p, {1, 1, 1});
+}
+
+void removeMean(Stream& stream, const Tensor& masks, const Tensor& residualOld, const Tensor& scalars,
+                const Tensor& residual, const Tensor& partials) {
+  const GridSize grid = volumeGrid(masks, "pressure mean removal (masks)");
+  requireVolume(residualOld, grid, "pressure mean removal (residual)");
+  requireVolume(residual, grid, "pressure mean removal (output residual)");
+  requirePartials(partials, partialCount(stream.context(), grid), "pressure mean removal");
+  dispatchCells(stream, "pressure_remove_mean", {}, {masks, residualOld, scalars, residual, partials}, push(grid), grid);
 }
 
 void smooth(Stream& stream, SmoothMode mode, bool dot, const Tensor& masks, const Tensor& rhs, const Tensor& x,
@@ -150,6 +163,12 @@ void correctVelocity(Stream& stream, const Tensor& masks, const Tensor& pressure
 
 using namespace pressure_ops;
 
+namespace {
+
+constexpr int kScalarMaxR = 3, kScalarMaxB = 4;  // slots, as in shaders/physics/pressure_scalars.glsl
+
+}  // namespace
+
 PressureSolver::PressureSolver(Context& context, const Tensor& flags, PressureOptions options)
     : context_(context), grid_(volumeGrid(flags, "pressure solver (flags)")), options_(options) {
   if (options_.smoothingSweeps < 1 || options_.coarsestSweeps < 1 || options_.maxIterations < 1 ||
@@ -163,7 +182,7 @@ PressureSolver::PressureSolver(Context& context, const Tensor& flags, PressureOp
   }
   product_ = Tensor(context, volume);
   preconditioned_ = Tensor(context, volume);
-  partials_ = Tensor(context, {2 * partialCount(context_, grid_)});
+  partials_ = Tensor(context, {3 * partialCount(context_, grid_)});
   scalars_ = Tensor(context, {kScalarSlots});
 
   GridSize size = grid_;
@@ -184,6 +203,11 @@ PressureSolver::PressureSolver(Context& context, const Tensor& flags, PressureOp
 
 void PressureSolver::setFlags(const Tensor& flags) {
   requireVolume(flags, grid_, "pressure solver (flags)");
+  const std::vector<float> values = flags.download();
+  fluidCells_ = std::count_if(values.begin(), values.end(), [](float f) { return (static_cast<uint32_t>(f) & kFluid) != 0; });
+  closed_ = std::none_of(values.begin(), values.end(), [](float f) {
+    return (static_cast<uint32_t>(f) & (kFluid | kObstacle)) == 0 && (static_cast<uint32_t>(f) & kEmpty) != 0;
+  });
   Stream stream(context_);
   stream.copy(flags, levels_[0].flags);
   for (std::size_t l = 1; l < levels_.size(); ++l) coarsenFlags(stream, levels_[l - 1].flags, levels_[l].flags);
@@ -247,40 +271,47 @@ void PressureSolver::recordIteration(Stream& stream, int parity) const {
   scalars(stream, ScalarStep::Residual, partials_, groups, scalars_);
 }
 
-std::vector<float> PressureSolver::readScalars() const { return scalars_.download(); }
+PressureReport PressureSolver::start(const Tensor& velocity, bool fromZero) {
+  const Tensor& masks = levels_[0].masks;
+  const int64_t groups = partialCount(context_, grid_);
+  Stream stream(context_);
+  if (fromZero) ops::fill(stream, solution_[0], 0.0f);
+  ops::fill(stream, direction_[0], 0.0f);
+  residual(stream, masks, velocity, solution_[0], residual_[closed_ ? 1 : 0], partials_);
+  scalars(stream, ScalarStep::Start, partials_, groups, scalars_, fluidCells_);
+  if (closed_) {
+    removeMean(stream, masks, residual_[1], scalars_, residual_[0], partials_);
+    scalars(stream, ScalarStep::Residual, partials_, groups, scalars_);
+  }
+  stream.submit();
+  const std::vector<float> s = scalars_.download();
+  PressureReport report;
+  report.initialDivergence = s[kScalarMaxB];
+  report.residual = s[kScalarMaxR];
+  return report;
+}
 
 PressureReport PressureSolver::project(const Tensor& velocity, const Tensor& velocityOut) {
   requireVector(velocity, grid_, "pressure projection (velocity)");
   requireVector(velocityOut, grid_, "pressure projection (output velocity)");
   if (velocity.sharedBuffer() == velocityOut.sharedBuffer())
     throw Error("pressure projection: the output velocity must not alias the input");
-  const Tensor& masks = levels_[0].masks;
-  {
-    Stream start(context_);
-    if (!options_.warmStart) ops::fill(start, solution_[0], 0.0f);
-    ops::fill(start, direction_[0], 0.0f);
-    residual(start, masks, velocity, solution_[0], residual_[0], partials_);
-    scalars(start, ScalarStep::Start, partials_, partialCount(context_, grid_), scalars_);
-    start.submit();
-  }
-  constexpr int kMaxR = 3, kMaxB = 4;  // slots, as in shaders/physics/pressure_scalars.glsl
-  std::vector<float> s = readScalars();
-  PressureReport report;
-  report.initialDivergence = s[kMaxB];
-  report.residual = s[kMaxR];
-  const double target = options_.tolerance * report.initialDivergence;
+  PressureReport report = start(velocity, !options_.warmStart);
+  // A previous pressure that fits worse than none (the flow changed completely) is dropped.
+  if (options_.warmStart && report.residual > report.initialDivergence) report = start(velocity, true);
+  const double target = std::max(options_.tolerance * report.initialDivergence, options_.absoluteTolerance);
   int parity = 0;
   report.converged = report.residual <= target;
   while (!report.converged && report.iterations < options_.maxIterations) {
     iteration_[parity]->submit();
     parity = 1 - parity;
     ++report.iterations;
-    report.residual = readScalars()[kMaxR];
+    report.residual = scalars_.download()[kScalarMaxR];
     report.converged = report.residual <= target;
   }
   report.relativeResidual = report.initialDivergence > 0 ? report.residual / report.initialDivergence : 0;
   Stream finish(context_);
-  correctVelocity(finish, masks, solution_[parity], velocity, velocityOut);
+  correctVelocity(finish, levels_[0].masks, solution_[parity], velocity, velocityOut);
   if (parity == 1) finish.copy(solution_[1], solution_[0]);
   finish.submit();
   return report;

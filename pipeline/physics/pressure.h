@@ -6,9 +6,11 @@
 //   (A p)_c  = Σ over non-obstacle neighbours n of (p_c − p_n), with p = 0 outside the fluid,
 // and solved by conjugate gradients preconditioned with one multigrid V-cycle (MGPCG): damped Jacobi
 // smoothing, piecewise-constant transfers between levels, coarse flags from the 2×2×2 children. The
-// solve stops when max |r| ≤ tolerance · max |div u| over the fluid; since the divergence left after the
-// projection is −r, that is also the bound on max |div u| afterwards. Every iteration runs on the device
-// from scalars kept in a small buffer; the host reads max |r| after each one.
+// solve stops when max |r| ≤ max(tolerance · max |div u|, absoluteTolerance) over the fluid; since the
+// divergence left after the projection is −r, that is also the bound on max |div u| afterwards. In a
+// closed domain (no empty cell) the matrix is singular and the mean of the initial residual is removed.
+// Every iteration runs on the device from scalars kept in a small buffer; the host reads max |r| after
+// each one.
 #pragma once
 
 #include <cstdint>
@@ -24,6 +26,7 @@ namespace smokesvd::physics {
 
 struct PressureOptions {
   double tolerance = 1e-4;        // relative residual in the max norm: max |r| / max |div u|
+  double absoluteTolerance = 1e-6;  // ... or this max |r| (float rounding floor for nearly divergence-free input)
   int maxIterations = 100;        // conjugate-gradient iterations before giving up (report says so)
   bool warmStart = true;          // start from the previous solve's pressure
   int smoothingSweeps = 2;        // Jacobi sweeps before and after each coarse correction
@@ -70,12 +73,15 @@ class PressureSolver {
   };
   void recordVCycle(Stream& stream, std::size_t level, const Tensor& rhs, const Tensor& out, bool dot) const;
   void recordIteration(Stream& stream, int parity) const;
-  std::vector<float> readScalars() const;
+  // Initial residual from solution_[0] (or zero): report with initialDivergence and residual set.
+  PressureReport start(const Tensor& velocity, bool fromZero);
 
   Context& context_;
   GridSize grid_;
   PressureOptions options_;
   std::vector<Level> levels_;
+  int64_t fluidCells_ = 0;
+  bool closed_ = false;  // no empty cell: the constants are the matrix's null space
   Tensor solution_[2], residual_[2], direction_[2], product_, preconditioned_, partials_, scalars_;
   std::unique_ptr<Stream> iteration_[2];
 };
@@ -84,7 +90,7 @@ class PressureSolver {
 // reference). The stencil kernels read stencil masks (one per cell: fluid and non-obstacle bits of the
 // cell and its six neighbours; shaders/physics/obstacle_flags.glsl) rather than flags. Partial buffers
 // hold one value per subgroup of a cell dispatch (shaders/physics/pressure_partials.glsl):
-// partialCount(grid) floats, or twice that for residual(). Scalar slots are listed in
+// partialCount(grid) floats, three times that for residual(). Scalar slots are listed in
 // shaders/physics/pressure_scalars.glsl.
 namespace pressure_ops {
 
@@ -96,7 +102,7 @@ int64_t partialCount(const Context& context, const GridSize& grid);
 GridSize coarserGrid(const GridSize& grid);
 
 void stencilMasks(Stream& stream, const Tensor& flags, const Tensor& masks);
-// residual = −div(velocity) − A·pressure at fluid cells; partials: max |b| then max |residual|.
+// residual = −div(velocity) − A·pressure at fluid cells; partials: max |b|, max |residual|, Σ residual.
 void residual(Stream& stream, const Tensor& masks, const Tensor& velocity, const Tensor& pressure,
               const Tensor& residual, const Tensor& partials);
 // direction = z + β·directionOld (fluid), product = A·direction, partials = Σ direction·product.
@@ -106,8 +112,13 @@ void applyDirection(Stream& stream, const Tensor& masks, const Tensor& precondit
 void update(Stream& stream, const Tensor& solutionOld, const Tensor& residualOld, const Tensor& direction,
             const Tensor& product, const Tensor& scalars, const Tensor& solution, const Tensor& residual,
             const Tensor& partials);
-// Reduces `count` partials per set into the scalar buffer (ScalarStep says which).
-void scalars(Stream& stream, ScalarStep step, const Tensor& partials, int64_t count, const Tensor& scalars);
+// Reduces `count` partials per set into the scalar buffer (ScalarStep says which); the Start step also
+// takes the mean of the residual over `fluidCells`.
+void scalars(Stream& stream, ScalarStep step, const Tensor& partials, int64_t count, const Tensor& scalars,
+             int64_t fluidCells = 0);
+// residual = residualOld − mean (the scalar buffer's) at fluid cells; partials: max |residual|.
+void removeMean(Stream& stream, const Tensor& masks, const Tensor& residualOld, const Tensor& scalars,
+                const Tensor& residual, const Tensor& partials);
 // One damped Jacobi sweep; `coarse` (the next level's correction) is read in Corrected mode only and
 // `partials` (Σ rhs·xNew) written only if `dot`.
 void smooth(Stream& stream, SmoothMode mode, bool dot, const Tensor& masks, const Tensor& rhs, const Tensor& x,

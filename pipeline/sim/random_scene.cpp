@@ -53,10 +53,10 @@ Scene randomScene(uint64_t seed, const std::array<int64_t, 3>& resolution, int f
   source.noise.seed = draw.seed();
   if (draw.chance(0.5)) source.velocity = Keyframes<Vec3>::constant({0, scale * draw.uniform(0.2, 0.8), 0});
 
-  scene.densityBuoyancy = scale * draw.uniform(4e-3, 9e-3);
+  scene.densityBuoyancy = scale * draw.uniform(0.035, 0.07);
   if (draw.chance(0.5)) {
     source.temperature = Keyframes<double>::constant(draw.uniform(0.5, 1.0));
-    scene.temperatureBuoyancy = scale * draw.uniform(2e-3, 6e-3);
+    scene.temperatureBuoyancy = scale * draw.uniform(0.015, 0.035);
   }
   scene.sources.push_back(source);
 

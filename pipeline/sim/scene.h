@@ -89,7 +89,7 @@ struct RenderSpec {
   bool enabled = true;
   int views = 16;              // orbit views evenly on [0°, 180°)
   int width = 0, height = 0;   // pixels
-  double step = 1, absorption = 1, ambient = 1;
+  double step = 1, absorption = 0.3, ambient = 1;
   double exposure = 1;         // PNG value = clamp(exposure · radiance, 0, 1)
   std::optional<Vec3> lightDirection;  // toward the light; absent: no light
   double lightIntensity = 1, lightAbsorption = 1;

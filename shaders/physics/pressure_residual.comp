@@ -5,8 +5,8 @@
 //   b_c = −div(u)_c = −Σ_a (u_a(c + e_a) − u_a(c)),  a face touching an obstacle counting as 0,
 //   (A p)_c = Σ over non-obstacle neighbours n of (p_c − p_n),  p_n = 0 in empty (open) cells,
 //   residual_c = b_c − (A p0)_c  at fluid cells, 0 elsewhere,
-// and per subgroup s (pressure_partials.glsl): partial[s] = max |b|, partial[count + s] = max |residual|
-// over its cells, count = the number of subgroups in the dispatch.
+// and per subgroup s (pressure_partials.glsl): partial[s] = max |b|, partial[count + s] = max |residual|,
+// partial[2·count + s] = Σ residual over its cells, count = the number of subgroups in the dispatch.
 // Index names and stencil masks in obstacle_flags.glsl; p0 is the initial guess.
 #include "obstacle_flags.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -47,4 +47,5 @@ void main() {
   }
   STORE_PARTIAL_MAX(partial, 0u, abs(b));
   STORE_PARTIAL_MAX(partial, count, abs(r));
+  STORE_PARTIAL_SUM(partial, 2u * count, r);
 }

@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // The conjugate-gradient scalars from per-subgroup partials, in one workgroup (slots in
 // pressure_scalars.glsl; n partials per set):
-//   STEP 0 (start):     max_b = max partial[0..n),  max_r = max partial[n..2n),  rz = α = β = 0
+//   STEP 0 (start):     max_b = max partial[0..n),  max_r = max partial[n..2n),
+//                       mean_r = Σ partial[2n..3n) · inverseFluidCells,  rz = α = β = 0
 //   STEP 1 (direction): rz_new = Σ partial,  β = rz_new / rz (0 while rz = 0),  rz = rz_new
 //   STEP 2 (step):      pAp = Σ partial,  α = rz / pAp (0 if pAp = 0)
 //   STEP 3 (residual):  max_r = max partial
@@ -13,7 +14,7 @@ layout(constant_id = 3) const int STEP = 0;
 
 layout(binding = 0) uniform samplerBuffer partial;
 layout(std430, binding = 1) buffer Scalars { float scalar[]; };
-layout(push_constant) uniform Push { uint n; };
+layout(push_constant) uniform Push { uint n; float inverseFluidCells; };
 
 shared float tree[gl_WorkGroupSize.x];
 
@@ -38,9 +39,11 @@ void main() {
   if (STEP == 0) {
     const float maxB = reduceSet(0u, true);
     const float maxR = reduceSet(n, true);
+    const float sumR = reduceSet(2u * n, false);
     if (gl_LocalInvocationIndex == 0u) {
       scalar[SCALAR_MAX_B] = maxB;
       scalar[SCALAR_MAX_R] = maxR;
+      scalar[SCALAR_MEAN_R] = sumR * inverseFluidCells;
       scalar[SCALAR_RZ] = 0.0;
       scalar[SCALAR_ALPHA] = 0.0;
       scalar[SCALAR_BETA] = 0.0;

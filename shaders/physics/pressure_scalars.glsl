@@ -9,5 +9,6 @@ const int SCALAR_BETA = 2;      // direction update rz_new / rz_old (0 on the fi
 const int SCALAR_MAX_R = 3;     // max |r| over fluid cells
 const int SCALAR_MAX_B = 4;     // max |b| = max |div u| before the solve
 const int SCALAR_PAP = 5;       // p·Ap
+const int SCALAR_MEAN_R = 6;    // mean of r over the fluid cells (closed domains remove it)
 
 #endif

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "pipeline/physics/pressure.h"
@@ -17,7 +18,7 @@ using physics::GridSize;
 using sim::Field;
 using sim::FlagView;
 
-constexpr int kRz = 0, kAlpha = 1, kBeta = 2, kMaxR = 3, kMaxB = 4, kPap = 5;  // pressure_scalars.glsl
+constexpr int kRz = 0, kAlpha = 1, kBeta = 2, kMaxR = 3, kMaxB = 4, kPap = 5, kMeanR = 6;  // pressure_scalars.glsl
 const GridSize kGrid{13, 17, 11};
 
 class PressureKernelTest : public GpuTest {
@@ -64,11 +65,12 @@ TEST_F(PressureKernelTest, ResidualIsMinusDivergenceMinusLaplacian) {
   Field pressureValues;
   Tensor pressure = fluidVolume(12, &pressureValues);
   Tensor residual = poisonedTensor(context(), kGrid.volume());
-  Tensor partial = partials(2);
+  Tensor partial = partials(3);
   Tensor scalars = scalarBuffer({});
+  const int64_t fluidCells = std::count(flagValues.begin(), flagValues.end(), 1.0f);
   Stream stream(context());
   pressure_ops::residual(stream, masks, velocity, pressure, residual, partial);
-  pressure_ops::scalars(stream, ScalarStep::Start, partial, partialCount(context(), kGrid), scalars);
+  pressure_ops::scalars(stream, ScalarStep::Start, partial, partialCount(context(), kGrid), scalars, fluidCells);
   stream.submit();
 
   const Field div = sim::divergence(view(), sim::widen(velocityValues));
@@ -83,6 +85,9 @@ TEST_F(PressureKernelTest, ResidualIsMinusDivergenceMinusLaplacian) {
   const std::vector<float> s = scalars.download();
   EXPECT_NEAR(s[kMaxB], sim::maxAbs(b), 1e-5);
   EXPECT_NEAR(s[kMaxR], sim::maxAbs(expected), 1e-5);
+  double sum = 0;
+  for (double v : expected) sum += v;
+  EXPECT_NEAR(s[kMeanR], sum / static_cast<double>(fluidCells), 1e-5);
   EXPECT_EQ(s[kRz], 0.0f);
   EXPECT_EQ(s[kBeta], 0.0f);
 }
@@ -137,6 +142,23 @@ TEST_F(PressureKernelTest, UpdateStepsAlongTheDirection) {
   EXPECT_TRUE(allClose(xNew, expectedX));
   EXPECT_TRUE(allClose(rNew, expectedR));
   EXPECT_NEAR(scalars.download()[kMaxR], sim::maxAbs(expectedR), 1e-6);
+}
+
+TEST_F(PressureKernelTest, MeanRemoval) {
+  Field r;
+  Tensor tr = fluidVolume(81, &r);
+  const double mean = 0.123;
+  Tensor scalars = scalarBuffer({0, 0, 0, 0, 0, 0, static_cast<float>(mean)});
+  Tensor out = poisonedTensor(context(), kGrid.volume());
+  Tensor partial = partials();
+  Stream stream(context());
+  removeMean(stream, masks, tr, scalars, out, partial);
+  pressure_ops::scalars(stream, ScalarStep::Residual, partial, partialCount(context(), kGrid), scalars);
+  stream.submit();
+  Field expected(r.size());
+  for (std::size_t i = 0; i < r.size(); ++i) expected[i] = flagValues[i] == 1.0f ? r[i] - mean : 0.0;
+  EXPECT_TRUE(allClose(out, expected));
+  EXPECT_NEAR(scalars.download()[kMaxR], sim::maxAbs(expected), 1e-6);
 }
 
 TEST_F(PressureKernelTest, DirectionScalarsFromPartials) {
