@@ -10,7 +10,7 @@ namespace smokesvd::testing {
 namespace {
 
 using physics::GridSize;
-using sim::Field;
+using ref::Field;
 
 const GridSize kGrid{11, 15, 9};
 
@@ -18,11 +18,11 @@ class ForcesTest : public GpuTest {
  protected:
   void SetUp() override {
     GpuTest::SetUp();
-    flagValues = sim::randomFlags(kGrid, 3);
+    flagValues = ref::randomFlags(kGrid, 3);
     flags = Tensor::fromHost(context(), kGrid.volume(), flagValues);
     velocity = randomTensor(context(), kGrid.vector(), 4, -1, 1, &velocityValues);
   }
-  sim::FlagView view() const { return sim::FlagView(kGrid, flagValues); }
+  ref::FlagView view() const { return ref::FlagView(kGrid, flagValues); }
 
   std::vector<float> flagValues, velocityValues;
   Tensor flags, velocity;
@@ -40,12 +40,12 @@ TEST_F(ForcesTest, BuoyancyFromDensityTemperatureAndWind) {
   physics::addBuoyancy(stream, flags, tDensity, &tTemperature, velocity, buoyancy, dt, out);
   physics::addBuoyancy(stream, flags, tDensity, nullptr, velocity, buoyancy, dt, outNoTemperature);
   stream.submit();
-  auto widen3 = [](const physics::Vec3& v) { return sim::Vec3d{v[0], v[1], v[2]}; };
-  EXPECT_TRUE(allClose(out, sim::addBuoyancy(view(), sim::widen(density), sim::widen(temperature),
-                                             sim::widen(velocityValues), widen3(buoyancy.uniform),
+  auto widen3 = [](const physics::Vec3& v) { return ref::Vec3d{v[0], v[1], v[2]}; };
+  EXPECT_TRUE(allClose(out, ref::addBuoyancy(view(), ref::widen(density), ref::widen(temperature),
+                                             ref::widen(velocityValues), widen3(buoyancy.uniform),
                                              widen3(buoyancy.perDensity), widen3(buoyancy.perTemperature), dt)));
   EXPECT_TRUE(allClose(outNoTemperature,
-                       sim::addBuoyancy(view(), sim::widen(density), sim::widen(temperature), sim::widen(velocityValues),
+                       ref::addBuoyancy(view(), ref::widen(density), ref::widen(temperature), ref::widen(velocityValues),
                                         widen3(buoyancy.uniform), widen3(buoyancy.perDensity), {0, 0, 0}, dt)));
 }
 
@@ -56,7 +56,7 @@ TEST_F(ForcesTest, CentredForceField) {
   Stream stream(context());
   physics::addForceField(stream, flags, tForce, velocity, 0.5f, out);
   stream.submit();
-  EXPECT_TRUE(allClose(out, sim::addForceField(view(), sim::widen(force), sim::widen(velocityValues), 0.5)));
+  EXPECT_TRUE(allClose(out, ref::addForceField(view(), ref::widen(force), ref::widen(velocityValues), 0.5)));
 }
 
 TEST_F(ForcesTest, VorticityAndConfinement) {
@@ -66,15 +66,15 @@ TEST_F(ForcesTest, VorticityAndConfinement) {
   Stream stream(context());
   physics::vorticityField(stream, velocity, vorticity);
   stream.submit();
-  const Field expectedVorticity = sim::vorticityField(kGrid, sim::widen(velocityValues));
+  const Field expectedVorticity = ref::vorticityField(kGrid, ref::widen(velocityValues));
   EXPECT_TRUE(allClose(vorticity, expectedVorticity));
 
   Stream confine(context());
   physics::addVorticityConfinement(confine, flags, vorticity, velocity, 0.3f, 0.9f, out);
   confine.submit();
   // The reference takes the GPU's vorticity, so that normalising a near-zero gradient cannot diverge.
-  const Field gpuVorticity = sim::widen(vorticity.download());
-  EXPECT_TRUE(allClose(out, sim::addVorticityConfinement(view(), gpuVorticity, sim::widen(velocityValues), 0.3, 0.9)));
+  const Field gpuVorticity = ref::widen(vorticity.download());
+  EXPECT_TRUE(allClose(out, ref::addVorticityConfinement(view(), gpuVorticity, ref::widen(velocityValues), 0.3, 0.9)));
 }
 
 }  // namespace

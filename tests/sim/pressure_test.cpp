@@ -15,8 +15,8 @@ namespace {
 namespace pressure_ops = physics::pressure_ops;
 using namespace pressure_ops;
 using physics::GridSize;
-using sim::Field;
-using sim::FlagView;
+using ref::Field;
+using ref::FlagView;
 
 constexpr int kRz = 0, kAlpha = 1, kBeta = 2, kMaxR = 3, kMaxB = 4, kPap = 5, kMeanR = 6;  // pressure_scalars.glsl
 const GridSize kGrid{13, 17, 11};
@@ -25,7 +25,7 @@ class PressureKernelTest : public GpuTest {
  protected:
   void SetUp() override {
     GpuTest::SetUp();
-    flagValues = sim::randomFlags(kGrid, 7);
+    flagValues = ref::randomFlags(kGrid, 7);
     flags = Tensor::fromHost(context(), kGrid.volume(), flagValues);
     masks = Tensor(context(), kGrid.volume());
     Stream stream(context());
@@ -37,7 +37,7 @@ class PressureKernelTest : public GpuTest {
     std::vector<float> v = randomValues(static_cast<std::size_t>(kGrid.cells()), seed);
     for (std::size_t i = 0; i < v.size(); ++i)
       if (flagValues[i] != 1.0f) v[i] = 0.0f;
-    *values = sim::widen(v);
+    *values = ref::widen(v);
     return Tensor::fromHost(context(), kGrid.volume(), v);
   }
   Tensor scalarBuffer(std::vector<float> values) {
@@ -56,7 +56,7 @@ TEST_F(PressureKernelTest, StencilMasksFromFlags) {
   Stream stream(context());
   stencilMasks(stream, flags, out);
   stream.submit();
-  EXPECT_TRUE(allClose(out, sim::stencilMasks(view()), {0, 0}));
+  EXPECT_TRUE(allClose(out, ref::stencilMasks(view()), {0, 0}));
 }
 
 TEST_F(PressureKernelTest, ResidualIsMinusDivergenceMinusLaplacian) {
@@ -73,8 +73,8 @@ TEST_F(PressureKernelTest, ResidualIsMinusDivergenceMinusLaplacian) {
   pressure_ops::scalars(stream, ScalarStep::Start, partial, partialCount(context(), kGrid), scalars, fluidCells);
   stream.submit();
 
-  const Field div = sim::divergence(view(), sim::widen(velocityValues));
-  const Field ap = sim::laplacian(view(), pressureValues);
+  const Field div = ref::divergence(view(), ref::widen(velocityValues));
+  const Field ap = ref::laplacian(view(), pressureValues);
   Field expected(div.size());
   Field b(div.size());
   for (std::size_t i = 0; i < div.size(); ++i) {
@@ -83,8 +83,8 @@ TEST_F(PressureKernelTest, ResidualIsMinusDivergenceMinusLaplacian) {
   }
   EXPECT_TRUE(allClose(residual, expected));
   const std::vector<float> s = scalars.download();
-  EXPECT_NEAR(s[kMaxB], sim::maxAbs(b), 1e-5);
-  EXPECT_NEAR(s[kMaxR], sim::maxAbs(expected), 1e-5);
+  EXPECT_NEAR(s[kMaxB], ref::maxAbs(b), 1e-5);
+  EXPECT_NEAR(s[kMaxR], ref::maxAbs(expected), 1e-5);
   double sum = 0;
   for (double v : expected) sum += v;
   EXPECT_NEAR(s[kMeanR], sum / static_cast<double>(fluidCells), 1e-5);
@@ -108,10 +108,10 @@ TEST_F(PressureKernelTest, ApplyDirectionAndStepLength) {
 
   Field p(z.size());
   for (std::size_t i = 0; i < p.size(); ++i) p[i] = flagValues[i] == 1.0f ? z[i] + beta * pOld[i] : 0.0;
-  const Field q = sim::laplacian(view(), p);
+  const Field q = ref::laplacian(view(), p);
   EXPECT_TRUE(allClose(direction, p));
   EXPECT_TRUE(allClose(product, q, {1e-5, 1e-5}));
-  const double pq = sim::dot(p, q);
+  const double pq = ref::dot(p, q);
   const std::vector<float> s = scalars.download();
   EXPECT_NEAR(s[kPap], pq, 1e-5 * std::abs(pq) + 1e-5);
   EXPECT_NEAR(s[kAlpha], rz / pq, 1e-5 * std::abs(rz / pq));
@@ -141,7 +141,7 @@ TEST_F(PressureKernelTest, UpdateStepsAlongTheDirection) {
   }
   EXPECT_TRUE(allClose(xNew, expectedX));
   EXPECT_TRUE(allClose(rNew, expectedR));
-  EXPECT_NEAR(scalars.download()[kMaxR], sim::maxAbs(expectedR), 1e-6);
+  EXPECT_NEAR(scalars.download()[kMaxR], ref::maxAbs(expectedR), 1e-6);
 }
 
 TEST_F(PressureKernelTest, MeanRemoval) {
@@ -158,7 +158,7 @@ TEST_F(PressureKernelTest, MeanRemoval) {
   Field expected(r.size());
   for (std::size_t i = 0; i < r.size(); ++i) expected[i] = flagValues[i] == 1.0f ? r[i] - mean : 0.0;
   EXPECT_TRUE(allClose(out, expected));
-  EXPECT_NEAR(scalars.download()[kMaxR], sim::maxAbs(expected), 1e-6);
+  EXPECT_NEAR(scalars.download()[kMaxR], ref::maxAbs(expected), 1e-6);
 }
 
 TEST_F(PressureKernelTest, DirectionScalarsFromPartials) {
@@ -186,7 +186,7 @@ TEST_F(PressureKernelTest, JacobiSweepsInEveryMode) {
   Tensor coarse = randomTensor(context(), coarseGrid.volume(), 53, -1, 1, &coarseValues);
   const float weight = 0.8f;
   const Field zero(x.size(), 0.0);
-  const Field corrected = sim::prolongAdd(view(), x, sim::widen(coarseValues), coarseGrid);
+  const Field corrected = ref::prolongAdd(view(), x, ref::widen(coarseValues), coarseGrid);
   struct Case {
     SmoothMode mode;
     Field start;
@@ -199,9 +199,9 @@ TEST_F(PressureKernelTest, JacobiSweepsInEveryMode) {
     smooth(stream, c.mode, true, masks, trhs, tx, coarse, coarseGrid, weight, xNew, partial);
     pressure_ops::scalars(stream, ScalarStep::Direction, partial, partialCount(context(), kGrid), scalars);
     stream.submit();
-    const Field expected = sim::jacobiSweep(view(), rhs, c.start, weight);
+    const Field expected = ref::jacobiSweep(view(), rhs, c.start, weight);
     EXPECT_TRUE(allClose(xNew, expected)) << "mode " << static_cast<int>(c.mode);
-    EXPECT_NEAR(scalars.download()[kRz], sim::dot(rhs, expected), 1e-5);
+    EXPECT_NEAR(scalars.download()[kRz], ref::dot(rhs, expected), 1e-5);
   }
 }
 
@@ -218,9 +218,9 @@ TEST_F(PressureKernelTest, RestrictionAndCoarseFlags) {
   stencilMasks(stream, coarseFlags, coarseMasks);
   restrictResidual(stream, masks, trhs, tx, coarseMasks, 0.5f, coarseRhs);
   stream.submit();
-  const std::vector<float> expectedFlags = sim::coarsenFlags(view(), coarseGrid);
+  const std::vector<float> expectedFlags = ref::coarsenFlags(view(), coarseGrid);
   EXPECT_TRUE(allClose(coarseFlags, expectedFlags, {0, 0}));
-  EXPECT_TRUE(allClose(coarseRhs, sim::restrictResidual(view(), rhs, x, FlagView(coarseGrid, expectedFlags), 0.5),
+  EXPECT_TRUE(allClose(coarseRhs, ref::restrictResidual(view(), rhs, x, FlagView(coarseGrid, expectedFlags), 0.5),
                        {1e-5, 1e-5}));
 }
 
@@ -233,7 +233,7 @@ TEST_F(PressureKernelTest, VelocityCorrection) {
   Stream stream(context());
   correctVelocity(stream, masks, pressure, velocity, out);
   stream.submit();
-  EXPECT_TRUE(allClose(out, sim::correctVelocity(view(), pressureValues, sim::widen(velocityValues))));
+  EXPECT_TRUE(allClose(out, ref::correctVelocity(view(), pressureValues, ref::widen(velocityValues))));
 }
 
 }  // namespace

@@ -43,7 +43,7 @@ class ProjectionTest : public GpuTest, public ::testing::WithParamInterface<Doma
 TEST_P(ProjectionTest, LeavesDivergenceUnderTheTolerance) {
   const GridSize grid{19, 27, 17};
   const std::vector<float> flagValues = domainFlags(grid, GetParam());
-  const sim::FlagView view(grid, flagValues);
+  const ref::FlagView view(grid, flagValues);
   Tensor flags = Tensor::fromHost(context(), grid.volume(), flagValues);
   std::vector<float> velocityValues;
   Tensor velocity = randomTensor(context(), grid.vector(), 17, -1, 1, &velocityValues);
@@ -57,9 +57,9 @@ TEST_P(ProjectionTest, LeavesDivergenceUnderTheTolerance) {
     const physics::PressureReport report = solver.project(velocity, projected);
 
     // max |div u| over fluid cells, before and after, computed on the CPU in double.
-    const double before = sim::maxAbs(sim::divergence(view, sim::widen(velocityValues)));
+    const double before = ref::maxAbs(ref::divergence(view, ref::widen(velocityValues)));
     const std::vector<float> after = projected.download();
-    const double remaining = sim::maxAbs(sim::divergence(view, sim::widen(after)));
+    const double remaining = ref::maxAbs(ref::divergence(view, ref::widen(after)));
     EXPECT_TRUE(report.converged) << "tolerance " << tolerance;
     EXPECT_LT(report.iterations, 40) << "tolerance " << tolerance;
     EXPECT_NEAR(report.initialDivergence, before, 1e-5 * before);
@@ -69,11 +69,11 @@ TEST_P(ProjectionTest, LeavesDivergenceUnderTheTolerance) {
     // Faces touching an obstacle carry no flow; every number is finite.
     const int64_t cells = grid.cells();
     for (int64_t index = 0; index < cells; ++index) {
-      const sim::Cell c = view.cell(index);
+      const ref::Cell c = view.cell(index);
       for (int a = 0; a < 3; ++a) {
         const float u = after[a * cells + index];
         ASSERT_TRUE(std::isfinite(u));
-        if (view.obstacle(c) || view.obstacle(sim::step(c, a, -1))) {
+        if (view.obstacle(c) || view.obstacle(ref::step(c, a, -1))) {
           ASSERT_EQ(u, 0.0f);
         }
       }

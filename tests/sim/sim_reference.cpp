@@ -4,7 +4,7 @@
 #include <cmath>
 #include <random>
 
-namespace smokesvd::testing::sim {
+namespace smokesvd::testing::ref {
 
 Cell step(Cell c, int axis, int64_t amount) {
   if (axis == 0) c.i += amount;
@@ -383,4 +383,4 @@ double dot(const Field& a, const Field& b) {
   return sum;
 }
 
-}  // namespace smokesvd::testing::sim
+}  // namespace smokesvd::testing::ref

@@ -10,7 +10,7 @@
 #include "pipeline/physics/grid.h"
 #include "pipeline/physics/sources.h"
 
-namespace smokesvd::testing::sim {
+namespace smokesvd::testing::ref {
 
 using physics::GridSize;
 using Field = std::vector<double>;
@@ -76,4 +76,4 @@ Field applySourceVelocity(const FlagView& flags, const std::vector<physics::Sour
 double maxAbs(const Field& values);
 double dot(const Field& a, const Field& b);
 
-}  // namespace smokesvd::testing::sim
+}  // namespace smokesvd::testing::ref

@@ -52,7 +52,7 @@ class SourcesTest : public GpuTest {
  protected:
   void SetUp() override {
     GpuTest::SetUp();
-    flagValues = sim::randomFlags(kGrid, 9, 0.1, 0.05);
+    flagValues = ref::randomFlags(kGrid, 9, 0.1, 0.05);
     flags = Tensor::fromHost(context(), kGrid.volume(), flagValues);
   }
   std::vector<float> flagValues;
@@ -73,13 +73,13 @@ TEST_F(SourcesTest, DensityAndTemperatureInflowOfEveryShapeAndMode) {
   physics::inflowFields(stream, flags, tDensity, &tTemperature, table, 0.5f, densityInflow, &temperatureInflow);
   physics::inflowFields(stream, flags, tDensity, nullptr, table, 0.5f, densityOnly, nullptr);
   stream.submit();
-  sim::Field expectedDensity, expectedTemperature;
-  sim::inflowFields(sim::FlagView(kGrid, flagValues), sim::widen(density), sim::widen(temperature), sources, 0.5,
+  ref::Field expectedDensity, expectedTemperature;
+  ref::inflowFields(ref::FlagView(kGrid, flagValues), ref::widen(density), ref::widen(temperature), sources, 0.5,
                     expectedDensity, expectedTemperature);
   EXPECT_TRUE(allClose(densityInflow, expectedDensity));
   EXPECT_TRUE(allClose(temperatureInflow, expectedTemperature));
   EXPECT_TRUE(allClose(densityOnly, expectedDensity));
-  EXPECT_GT(sim::maxAbs(expectedDensity), 0.5) << "the sources should cover fluid cells";
+  EXPECT_GT(ref::maxAbs(expectedDensity), 0.5) << "the sources should cover fluid cells";
 }
 
 TEST_F(SourcesTest, VelocityBlendsOverCoveredFaces) {
@@ -92,7 +92,7 @@ TEST_F(SourcesTest, VelocityBlendsOverCoveredFaces) {
   Stream stream(context());
   physics::applySourceVelocity(stream, flags, table, tVelocity, out);
   stream.submit();
-  EXPECT_TRUE(allClose(out, sim::applySourceVelocity(sim::FlagView(kGrid, flagValues), sources, sim::widen(velocity))));
+  EXPECT_TRUE(allClose(out, ref::applySourceVelocity(ref::FlagView(kGrid, flagValues), sources, ref::widen(velocity))));
 }
 
 TEST_F(SourcesTest, AnEmptyTableAddsNothing) {
