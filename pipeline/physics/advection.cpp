@@ -3,18 +3,17 @@
 #include <array>
 #include <string>
 
-#include "pipeline/physics/grid.h"
 #include "runtime/error.h"
 
 namespace smokesvd::physics {
 namespace {
 
-constexpr std::array<uint32_t, 3> kWorkgroup{64, 1, 1};
+// One invocation per cell on a 3D grid; 16 cells along x fill two 8-lane SIMD rows on lavapipe.
+constexpr std::array<uint32_t, 3> kWorkgroup{16, 4, 1};
 
 // The push block of every advection kernel (AdvectPush in shaders/physics/advect_sampling.glsl).
 struct AdvectPush {
   int32_t nx, ny, nz;
-  int32_t mode;
   int32_t plane;
   float dt;
   float strength;
@@ -29,16 +28,28 @@ struct Planes {
   bool mac = false;
 
   AdvectPush push(int plane, float dt, float strength = 1.0f) const {
-    return {static_cast<int32_t>(grid.x), static_cast<int32_t>(grid.y), static_cast<int32_t>(grid.z),
-            mac ? plane + 1 : 0, plane, dt, strength, 0.0f, 0};
+    return {static_cast<int32_t>(grid.x),
+            static_cast<int32_t>(grid.y),
+            static_cast<int32_t>(grid.z),
+            plane,
+            dt,
+            strength,
+            0.0f,
+            0};
   }
-  uint64_t cells() const { return static_cast<uint64_t>(grid.cells()); }
+  // The specialization constant MODE of a plane: 0 scalar at cell centres, 1 + m MAC component m.
+  int32_t mode(int plane) const { return mac ? plane + 1 : 0; }
+  Shape vec4Shape() const { return {count, grid.z, grid.y, grid.x, 4}; }
+  std::array<uint32_t, 3> groups() const {
+    return {static_cast<uint32_t>((grid.x + kWorkgroup[0] - 1) / kWorkgroup[0]),
+            static_cast<uint32_t>((grid.y + kWorkgroup[1] - 1) / kWorkgroup[1]), static_cast<uint32_t>(grid.z)};
+  }
 };
 
-Planes planesOf(const Tensor& flags, const Tensor& field, const Tensor& velocity, const char* op) {
+Planes planesOf(const FlagGrid& flags, const Tensor& field, const Tensor& velocity, const char* op) {
   const std::string prefix(op);
   Planes planes;
-  planes.grid = volumeGrid(flags, (prefix + ": flags").c_str());
+  planes.grid = flags.size();
   requireVector(velocity, planes.grid, (prefix + ": velocity").c_str());
   const bool scalar = field.rank() == 3 || (field.rank() == 4 && field.size(0) == 1);
   if (scalar) {
@@ -58,26 +69,54 @@ void requireLike(const Tensor& tensor, const Tensor& like, const std::string& wh
 
 void semiLagrangianPass(Stream& stream, const Planes& planes, const Tensor& field, const Tensor& velocity,
                         const Tensor* inflow, float dt, const Tensor& out) {
-  const Kernel& kernel = stream.kernel("physics/advect_sl", kWorkgroup, {inflow ? 1 : 0});
-  for (int plane = 0; plane < planes.count; ++plane)
-    stream.dispatchFlat(kernel, {field, velocity, inflow ? *inflow : field, out}, planes.push(plane, dt),
-                        planes.cells());
+  for (int plane = 0; plane < planes.count; ++plane) {
+    const Kernel& kernel = stream.kernel("physics/advect_sl", kWorkgroup, {planes.mode(plane), inflow ? 1 : 0});
+    stream.dispatch(kernel, {field, velocity, inflow ? *inflow : field, out}, planes.push(plane, dt), planes.groups());
+  }
 }
 
-// Departure points (vec4 per cell and plane) and the reach of each plane, for the gather adjoints.
+AdvectionCache macCormackPrepare(Stream& stream, const Planes& planes, const FlagGrid& flags, const Tensor& field,
+                                 const Tensor& velocity, const AdvectionParams& params) {
+  Context& context = stream.context();
+  AdvectionCache cache{Tensor(context, field.shape()), Tensor(context, planes.vec4Shape()),
+                       Tensor(context, planes.vec4Shape())};
+  for (int plane = 0; plane < planes.count; ++plane) {
+    const Kernel& kernel = stream.kernel("physics/advect_mc_prepare", kWorkgroup, {planes.mode(plane)});
+    stream.dispatch(kernel, {flags.masks(), field, velocity, cache.firstOrder, cache.trace, cache.bounds},
+                    planes.push(plane, params.dt, params.strength), planes.groups());
+  }
+  return cache;
+}
+
+// The gather adjoints' view of one trace direction: per cell and plane the departure stencil (vec4),
+// and per tile of kTile³ cells the window of targets a source cell gathers from
+// (shaders/physics/advect_tiles.glsl).
+constexpr int64_t kTile = 8;
+
 struct Trace {
   Tensor departure;
-  Tensor reach;
+  Tensor window;
 };
 
 Trace trace(Stream& stream, const Planes& planes, const Tensor& velocity, float dt) {
   Context& context = stream.context();
-  Trace result{Tensor(context, {planes.count, planes.grid.z, planes.grid.y, planes.grid.x, 4}),
-               Tensor(context, {planes.count, 8})};
-  stream.fillZero(result.reach);
-  const Kernel& kernel = stream.kernel("physics/advect_trace", kWorkgroup);
-  for (int plane = 0; plane < planes.count; ++plane)
-    stream.dispatchFlat(kernel, {velocity, result.departure, result.reach}, planes.push(plane, dt), planes.cells());
+  const GridSize& g = planes.grid;
+  const std::array<uint32_t, 3> tiles{static_cast<uint32_t>((g.x + kTile - 1) / kTile),
+                                      static_cast<uint32_t>((g.y + kTile - 1) / kTile),
+                                      static_cast<uint32_t>((g.z + kTile - 1) / kTile)};
+  const int64_t tileCount = int64_t{tiles[0]} * tiles[1] * tiles[2];
+  Trace result{Tensor(context, planes.vec4Shape()), Tensor(context, {planes.count, tileCount, 8})};
+  const Tensor reach(context, {planes.count, tileCount + 1, 8});
+  const std::array<uint32_t, 3> tileGroups{(tiles[0] + 7) / 8, tiles[1], tiles[2]};
+  for (int plane = 0; plane < planes.count; ++plane) {
+    const AdvectPush push = planes.push(plane, dt);
+    stream.dispatch(stream.kernel("physics/advect_trace", kWorkgroup, {planes.mode(plane)}),
+                    {velocity, result.departure}, push, planes.groups());
+    stream.dispatch(stream.kernel("physics/advect_tile_reach", {8, 1, 1}), {asVec4(result.departure), reach}, push,
+                    tileGroups);
+    stream.dispatch(stream.kernel("physics/advect_reach", {64, 1, 1}), {reach}, push, {1, 1, 1});
+    stream.dispatch(stream.kernel("physics/advect_window", {8, 1, 1}), {reach, result.window}, push, tileGroups);
+  }
   return result;
 }
 
@@ -85,46 +124,42 @@ Trace trace(Stream& stream, const Planes& planes, const Tensor& velocity, float 
 void semiLagrangianAdjoint(Stream& stream, const Planes& planes, const Trace& traced, float dt, const Tensor& upstream,
                            const Tensor& field, const Tensor* direct, float directScale, const Tensor* prior,
                            const Tensor& gradField, const Tensor& traceGrad) {
-  const Kernel& kernel = stream.kernel("physics/advect_sl_adjoint", kWorkgroup);
   for (int plane = 0; plane < planes.count; ++plane) {
+    const Kernel& kernel = stream.kernel("physics/advect_sl_adjoint", kWorkgroup, {planes.mode(plane)});
     AdvectPush push = planes.push(plane, dt);
     push.directScale = direct ? directScale : 0.0f;
     push.hasPrior = prior ? 1 : 0;
-    stream.dispatchFlat(kernel,
-                        {upstream, field, asVec4(traced.departure), traced.reach, direct ? *direct : upstream,
-                         prior ? *prior : upstream, gradField, traceGrad},
-                        push, planes.cells());
+    stream.dispatch(kernel,
+                    {upstream, field, asVec4(traced.departure), traced.window, direct ? *direct : upstream,
+                     prior ? *prior : upstream, gradField, traceGrad},
+                    push, planes.groups());
   }
 }
 
 }  // namespace
 
-AdvectionScheme parseAdvectionScheme(const std::string& name) {
-  if (name == "sl" || name == "semi-lagrangian") return AdvectionScheme::SemiLagrangian;
-  if (name == "mc" || name == "maccormack") return AdvectionScheme::MacCormack;
-  throw Error("advection scheme '" + name + "': expected sl (semi-lagrangian) or mc (maccormack)");
-}
-
-void advect(Stream& stream, const Tensor& flags, const Tensor& field, const Tensor& velocity, const Tensor* inflow,
-            const AdvectionParams& params, const Tensor& out, const Tensor* firstOrder) {
+void advect(Stream& stream, const FlagGrid& flags, const Tensor& field, const Tensor& velocity, const Tensor* inflow,
+            const AdvectionParams& params, const Tensor& out, AdvectionCache* cache) {
   const Planes planes = planesOf(flags, field, velocity, "advect");
   requireLike(out, field, "advect: output");
   if (inflow) requireLike(*inflow, field, "advect: inflow");
   if (params.scheme == AdvectionScheme::SemiLagrangian) {
     semiLagrangianPass(stream, planes, field, velocity, inflow, params.dt, out);
+    if (cache) *cache = {};
     return;
   }
-  if (firstOrder) requireLike(*firstOrder, field, "advect: first-order pass");
-  const Tensor forward = firstOrder ? *firstOrder : Tensor(stream.context(), field.shape());
-  semiLagrangianPass(stream, planes, field, velocity, nullptr, params.dt, forward);
-  const Kernel& kernel = stream.kernel("physics/advect_mc", kWorkgroup, {inflow ? 1 : 0});
-  for (int plane = 0; plane < planes.count; ++plane)
-    stream.dispatchFlat(kernel, {flags, field, forward, velocity, inflow ? *inflow : field, out},
-                        planes.push(plane, params.dt, params.strength), planes.cells());
+  const AdvectionCache prepared = macCormackPrepare(stream, planes, flags, field, velocity, params);
+  for (int plane = 0; plane < planes.count; ++plane) {
+    const Kernel& kernel = stream.kernel("physics/advect_mc", kWorkgroup, {planes.mode(plane), inflow ? 1 : 0});
+    stream.dispatch(
+        kernel, {prepared.firstOrder, asVec4(prepared.trace), asVec4(prepared.bounds), inflow ? *inflow : field, out},
+        planes.push(plane, params.dt, params.strength), planes.groups());
+  }
+  if (cache) *cache = prepared;
 }
 
-void advectBackward(Stream& stream, const Tensor& flags, const Tensor& field, const Tensor& velocity,
-                    const AdvectionParams& params, const Tensor& gradOut, const Tensor* firstOrder,
+void advectBackward(Stream& stream, const FlagGrid& flags, const Tensor& field, const Tensor& velocity,
+                    const AdvectionParams& params, const Tensor& gradOut, const AdvectionCache* cache,
                     const AdvectionGradients& gradients) {
   const Planes planes = planesOf(flags, field, velocity, "advect backward");
   requireLike(gradOut, field, "advect backward: upstream gradient");
@@ -141,16 +176,20 @@ void advectBackward(Stream& stream, const Tensor& flags, const Tensor& field, co
     semiLagrangianAdjoint(stream, planes, forwardTrace, params.dt, gradOut, field, nullptr, 0.0f, nullptr, gradField,
                           traceGrad);
   } else {
-    if (firstOrder) requireLike(*firstOrder, field, "advect backward: first-order pass");
-    Tensor forward = firstOrder ? *firstOrder : Tensor(context, field.shape());
-    if (!firstOrder) semiLagrangianPass(stream, planes, field, velocity, nullptr, params.dt, forward);
+    const bool cached = cache && cache->firstOrder.defined();
+    if (cached && (cache->firstOrder.numel() != field.numel() || cache->trace.shape() != planes.vec4Shape() ||
+                   cache->bounds.shape() != planes.vec4Shape()))
+      throw Error("advect backward: the cache does not belong to a field " + toString(field.shape()));
+    const AdvectionCache prepared = cached ? *cache : macCormackPrepare(stream, planes, flags, field, velocity, params);
+    const Tensor& forward = prepared.firstOrder;
     const Trace backwardTrace = trace(stream, planes, velocity, -params.dt);
 
     const Tensor gradBwd(context, field.shape());
-    const Kernel& mask = stream.kernel("physics/advect_mc_adjoint", kWorkgroup);
-    for (int plane = 0; plane < planes.count; ++plane)
-      stream.dispatchFlat(mask, {flags, field, forward, velocity, gradOut, gradBwd},
-                          planes.push(plane, params.dt, params.strength), planes.cells());
+    for (int plane = 0; plane < planes.count; ++plane) {
+      const Kernel& mask = stream.kernel("physics/advect_mc_adjoint", kWorkgroup, {planes.mode(plane)});
+      stream.dispatch(mask, {forward, asVec4(prepared.trace), asVec4(prepared.bounds), gradOut, gradBwd},
+                      planes.push(plane, params.dt, params.strength), planes.groups());
+    }
 
     // ∂L/∂fwd = g + S_−vᵀ gradBwd, then ∂L/∂field = S_vᵀ ∂L/∂fwd − gradBwd.
     const Tensor gradForward(context, field.shape());
@@ -162,8 +201,8 @@ void advectBackward(Stream& stream, const Tensor& flags, const Tensor& field, co
   }
 
   if (gradients.velocity) {
-    const Kernel& kernel = stream.kernel("physics/advect_velocity_adjoint", kWorkgroup, {planes.mac ? 1 : 0});
-    stream.dispatchFlat(kernel, {traceGrad, *gradients.velocity}, planes.push(0, params.dt), planes.cells());
+    const Kernel& kernel = stream.kernel("physics/advect_velocity_adjoint", kWorkgroup, {0, planes.mac ? 1 : 0});
+    stream.dispatch(kernel, {traceGrad, *gradients.velocity}, planes.push(0, params.dt), planes.groups());
   }
 }
 

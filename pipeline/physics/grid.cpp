@@ -1,6 +1,8 @@
 #include "pipeline/physics/grid.h"
 
+#include <array>
 #include <string>
+#include <utility>
 
 #include "runtime/error.h"
 
@@ -52,6 +54,17 @@ void requireVector(const Tensor& tensor, const GridSize& grid, const char* what)
                 toString(tensor.shape()));
 }
 
+FlagGrid::FlagGrid(Stream& stream, Tensor flags)
+    : size_(volumeGrid(flags, "flag grid")), flags_(std::move(flags)), masks_(stream.context(), size_.volume()) {
+  struct {
+    int32_t nx, ny, nz;
+  } push{static_cast<int32_t>(size_.x), static_cast<int32_t>(size_.y), static_cast<int32_t>(size_.z)};
+  const std::array<uint32_t, 3> workgroup{16, 4, 1};
+  stream.dispatch(stream.kernel("physics/advect_masks", workgroup), {flags_, masks_}, push,
+                  {static_cast<uint32_t>((size_.x + 15) / 16), static_cast<uint32_t>((size_.y + 3) / 4),
+                   static_cast<uint32_t>(size_.z)});
+}
+
 std::vector<float> closedBoxFlags(const GridSize& grid, int wallWidth) {
   std::vector<float> flags(static_cast<std::size_t>(grid.cells()));
   auto wall = [wallWidth](int64_t i, int64_t n) { return i < wallWidth || i >= n - wallWidth; };
@@ -71,7 +84,9 @@ namespace {
 
 void convertLayout(Stream& stream, const Tensor& from, const Tensor& to, int32_t toPlanar) {
   const uint32_t cells = static_cast<uint32_t>(from.numel() / 3);
-  struct { uint32_t cells; } push{cells};
+  struct {
+    uint32_t cells;
+  } push{cells};
   const Kernel& kernel = stream.kernel("physics/velocity_layout", {64, 1, 1}, {toPlanar});
   stream.dispatchFlat(kernel, {from, to}, push, cells);
 }

@@ -24,8 +24,8 @@ enum CellFlag : uint32_t { kFluid = 1, kObstacle = 2, kEmpty = 4 };
 struct GridSize {
   int64_t x = 0, y = 0, z = 0;
   int64_t cells() const { return x * y * z; }
-  Shape volume() const { return {z, y, x}; }       // [D, H, W]
-  Shape vector() const { return {3, z, y, x}; }    // [3, D, H, W]
+  Shape volume() const { return {z, y, x}; }     // [D, H, W]
+  Shape vector() const { return {3, z, y, x}; }  // [3, D, H, W]
   bool operator==(const GridSize&) const = default;
 };
 
@@ -36,6 +36,24 @@ GridSize vectorGrid(const Tensor& vectorField, const char* what);
 // Throws Error naming `what` unless `tensor` is a volume [D, H, W] (or [1, D, H, W]) of `grid`.
 void requireVolume(const Tensor& tensor, const GridSize& grid, const char* what);
 void requireVector(const Tensor& tensor, const GridSize& grid, const char* what);
+
+// A grid's cell flags with what the kernels derive from them once: per-cell masks packing a cell's own
+// flags, its face neighbours' and its 2x2x2 block's (shaders/physics/advect_masks.comp), so that a
+// MacCormack pass reads one texel instead of up to nine flags. Build it once per scene (flags change
+// only when obstacles do); the masks are recorded into `stream` and valid for anything recorded after.
+class FlagGrid {
+ public:
+  FlagGrid(Stream& stream, Tensor flags);
+
+  const GridSize& size() const { return size_; }
+  const Tensor& flags() const { return flags_; }
+  const Tensor& masks() const { return masks_; }
+
+ private:
+  GridSize size_;
+  Tensor flags_;
+  Tensor masks_;
+};
 
 // Flags of a closed box: an outer layer `wallWidth` cells thick is obstacle, the rest fluid
 // (mantaflow's initDomain(boundaryWidth = wallWidth - 1) followed by fillGrid()).

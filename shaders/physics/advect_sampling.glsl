@@ -3,9 +3,10 @@
 //
 // Index names: n = grid size (x, y, z) in cells; c = integer cell (i, j, k), centred at c + ½;
 // cells = n.x·n.y·n.z; a plane is one scalar grid of `cells` floats inside a tensor, at offset
-// plane·cells. The plane's mode says where its values live and which velocity traces them:
-//   mode 0: at cell centres, traced by the centred velocity (½(u(c) + u(c + e_d)) per axis d),
-//   mode 1 + m: MAC component m at the lower m-face, traced by the face velocity: component m is
+// plane·cells. The plane's MODE (constant_id 3) says where its values live and which velocity
+// traces them:
+//   MODE 0: at cell centres, traced by the centred velocity (½(u(c) + u(c + e_d)) per axis d),
+//   MODE 1 + m: MAC component m at the lower m-face, traced by the face velocity: component m is
 //     u_m(c) itself, a component d ≠ m the average of the four d-faces around the m-face,
 //     ¼(u_d(c) + u_d(c − e_m) + u_d(c + e_d) + u_d(c + e_d − e_m)).
 // A MAC plane is interpolated exactly like a centred one: shifting the face by −½ e_m moves the
@@ -13,11 +14,12 @@
 #ifndef SMOKESVD_ADVECT_SAMPLING_GLSL
 #define SMOKESVD_ADVECT_SAMPLING_GLSL
 
+layout(constant_id = 3) const int MODE = 0;
+
 // dt is signed (a backward trace passes −dt); strength is MacCormack's correction factor;
 // directScale and hasPrior belong to the adjoint kernels.
 layout(push_constant) uniform AdvectPush {
   ivec3 n;
-  int mode;
   int plane;
   float dt;
   float strength;
@@ -27,7 +29,9 @@ layout(push_constant) uniform AdvectPush {
 
 int cellCount() { return n.x * n.y * n.z; }
 int cellIndex(ivec3 c) { return (c.z * n.y + c.y) * n.x + c.x; }
-ivec3 cellOf(int index) { return ivec3(index % n.x, (index / n.x) % n.y, index / (n.x * n.y)); }
+// Kernels run on a 3D grid of invocations, one per cell (x fastest along the SIMD lanes).
+ivec3 invocationCell() { return ivec3(gl_GlobalInvocationID); }
+bool inGrid(ivec3 c) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan(c, n)); }
 bool isInterior(ivec3 c) { return all(greaterThan(c, ivec3(0))) && all(lessThan(c, n - 1)); }
 ivec3 axisStride() { return ivec3(1, n.x, n.x * n.y); }
 
@@ -39,18 +43,19 @@ vec3 traceVelocity(samplerBuffer velocity, ivec3 c) {
   const int at = cellIndex(c);
   const ivec3 stride = axisStride();
   vec3 v;
-  if (mode == 0) {
+  if (MODE == 0) {
     for (int d = 0; d < 3; ++d)
       v[d] = 0.5 * (fetchVelocity(velocity, d, at) + fetchVelocity(velocity, d, at + stride[d]));
     return v;
   }
-  const int m = mode - 1;
+  const int m = MODE - 1;
   for (int d = 0; d < 3; ++d) {
     if (d == m) {
       v[d] = fetchVelocity(velocity, d, at);
     } else {
+      const int up = at + stride[d];
       v[d] = 0.25 * (fetchVelocity(velocity, d, at) + fetchVelocity(velocity, d, at - stride[m]) +
-                     fetchVelocity(velocity, d, at + stride[d]) + fetchVelocity(velocity, d, at + stride[d] - stride[m]));
+                     fetchVelocity(velocity, d, up) + fetchVelocity(velocity, d, up - stride[m]));
     }
   }
   return v;
@@ -116,14 +121,6 @@ vec3 trilinearGradient(float corner[8], Stencil s) {
   const float dz = ((corner[4] - corner[0]) * w0.x + (corner[5] - corner[1]) * w1.x) * w0.y +
                    ((corner[6] - corner[2]) * w0.x + (corner[7] - corner[3]) * w1.x) * w1.y;
   return vec3(dx, dy, dz) * s.slope;
-}
-
-// The weight cell y receives from stencil s (0 when outside it).
-float stencilWeight(Stencil s, ivec3 y) {
-  const ivec3 o = y - s.base;
-  if (any(lessThan(o, ivec3(0))) || any(greaterThan(o, ivec3(1)))) return 0.0;
-  const vec3 w = mix(1.0 - s.w1, s.w1, vec3(o));
-  return w.x * w.y * w.z;
 }
 
 #endif

@@ -4,11 +4,10 @@
 //   out(c) = trilinear(field, c + ½ − v(c)·dt) [+ inflow(c)]   at interior cells c,
 //   out(c) = 0 [+ inflow(c)]                                   on the outer layer,
 // v(c) the plane's trace velocity, lookups clamped to cell centres (advect_sampling.glsl has the
-// index names). HAS_INFLOW (constant_id 3) adds the inflow plane.
-#include "index.glsl"
+// index names). HAS_INFLOW (constant_id 4) adds the inflow plane.
 #include "advect_sampling.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
-layout(constant_id = 3) const int HAS_INFLOW = 0;
+layout(constant_id = 4) const int HAS_INFLOW = 0;
 
 layout(binding = 0) uniform samplerBuffer field;
 layout(binding = 1) uniform samplerBuffer velocity;
@@ -16,9 +15,9 @@ layout(binding = 2) uniform samplerBuffer inflow;
 layout(std430, binding = 3) writeonly buffer Output { float result[]; };
 
 void main() {
-  const int item = int(flat_index());
-  if (item >= cellCount()) return;
-  const ivec3 c = cellOf(item);
+  const ivec3 c = invocationCell();
+  if (!inGrid(c)) return;
+  const int item = cellIndex(c);
   const int at = plane * cellCount() + item;
   float value = 0.0;
   if (isInterior(c)) {

@@ -6,24 +6,21 @@
 //   MAC = 1 (three MAC planes m): gradVelocity_c(y) = t_{m=c,c}(y)
 //                                   + Σ_{m≠c} Σ_{a,b∈{0,1}} ¼·t_{m,c}(y + a·e_m − b·e_c)
 // (transposes of the averages in advect_sampling.glsl; terms outside the grid are 0).
-#include "index.glsl"
 #include "advect_sampling.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
-layout(constant_id = 3) const int MAC = 0;
+layout(constant_id = 4) const int MAC = 0;
 
 layout(binding = 0) uniform samplerBuffer traceGrad;
 layout(std430, binding = 1) writeonly buffer GradVelocity { float gradVelocity[]; };
-
-bool inGrid(ivec3 c) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan(c, n)); }
 
 float traceGradAt(int tracePlane, int component, ivec3 c) {
   return texelFetch(traceGrad, (3 * tracePlane + component) * cellCount() + cellIndex(c)).x;
 }
 
 void main() {
-  const int item = int(flat_index());
-  if (item >= cellCount()) return;
-  const ivec3 y = cellOf(item);
+  const ivec3 y = invocationCell();
+  if (!inGrid(y)) return;
+  const int item = cellIndex(y);
   for (int c = 0; c < 3; ++c) {
     ivec3 below = y;
     below[c] -= 1;

@@ -64,3 +64,20 @@ TEST_F(OpCommand, BadInputsAreOneLineErrors) {
 
 }  // namespace
 }  // namespace smokesvd::testing
+
+namespace smokesvd::testing {
+namespace {
+
+TEST_F(OpCommand, OversizedTensorIsAOneLineError) {
+  // One float more than lavapipe's 128 MiB storage-buffer range.
+  const int64_t elements = (int64_t{128} << 20) / 4 + 1;
+  io::writeNpy(dir_ / "big.npy", io::NpyArray::fromFloats({elements}, std::vector<float>(elements, 1.0f)));
+  const CommandResult result = runSmokesvd("op scale --attr alpha=2 --in x=" + file("big.npy") + " --out y=" + file("y.npy"));
+  EXPECT_NE(result.exitCode, 0);
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+  EXPECT_NE(result.err.find("tensor [" + std::to_string(elements) + "]"), std::string::npos) << result.err;
+  EXPECT_FALSE(fs::exists(dir_ / "y.npy"));
+}
+
+}  // namespace
+}  // namespace smokesvd::testing

@@ -29,13 +29,12 @@ class MantaflowAdvectionTest : public GpuTest {
 
   // The density advected by mantaflow's velocity with the given scheme.
   Tensor advected(physics::AdvectionScheme scheme) {
-    Tensor flags = tensor("flags");
     Tensor density = tensor("density_in");
     Tensor interleaved = tensor("vel_mac");
-    const physics::GridSize grid = physics::volumeGrid(flags, "flags");
-    Tensor velocity(context(), grid.vector());
-    Tensor out(context(), density.shape());
     Stream stream(context());
+    const physics::FlagGrid flags(stream, tensor("flags"));
+    Tensor velocity(context(), flags.size().vector());
+    Tensor out(context(), density.shape());
     physics::interleavedToPlanar(stream, interleaved, velocity);
     physics::advect(stream, flags, density, velocity, nullptr, {.scheme = scheme, .dt = 1.0f}, out);
     stream.submit();
