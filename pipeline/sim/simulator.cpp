@@ -68,6 +68,9 @@ Simulator::Simulator(Context& context, const Scene& scene)
   options.tolerance = scene_.pressureTolerance;
   options.maxIterations = scene_.pressureMaxIterations;
   solver_ = std::make_unique<physics::PressureSolver>(context, flags_, options);
+  Stream stream(context);
+  flagGrid_ = std::make_unique<physics::FlagGrid>(stream, flags_);
+  stream.submit();
 }
 
 std::vector<physics::SourceState> Simulator::sourceStates(double time) const {
@@ -105,9 +108,12 @@ physics::Buoyancy Simulator::buoyancyAt(double time) const {
   return b;
 }
 
-void Simulator::updateFlags() {
-  flags_.upload(sceneFlags(scene_, frame_));
+void Simulator::updateFlags(int frame) {
+  flags_.upload(sceneFlags(scene_, frame));
   solver_->setFlags(flags_);
+  Stream stream(context_);
+  flagGrid_ = std::make_unique<physics::FlagGrid>(stream, flags_);
+  stream.submit();
 }
 
 physics::PressureReport Simulator::step(int substep) {
@@ -121,12 +127,12 @@ physics::PressureReport Simulator::step(int substep) {
   Stream stream(context_);
   physics::inflowFields(stream, flags_, density_, heat ? &temperature_ : nullptr, sources_, dt, densityInflow_,
                         heat ? &temperatureInflow_ : nullptr);
-  physics::advect(stream, flags_, density_, velocity_, &densityInflow_, advection, densityNext_);
-  if (heat) physics::advect(stream, flags_, temperature_, velocity_, &temperatureInflow_, advection, temperatureNext_);
+  physics::advect(stream, *flagGrid_, density_, velocity_, &densityInflow_, advection, densityNext_);
+  if (heat) physics::advect(stream, *flagGrid_, temperature_, velocity_, &temperatureInflow_, advection, temperatureNext_);
   // The velocity passes between two scratch fields; `current` is the latest.
   int current = 0;
   auto next = [&] { return velocityScratch_[1 - current]; };
-  physics::advect(stream, flags_, velocity_, velocity_, nullptr, advection, velocityScratch_[current]);
+  physics::advect(stream, *flagGrid_, velocity_, velocity_, nullptr, advection, velocityScratch_[current]);
   physics::addBuoyancy(stream, flags_, densityNext_, heat ? &temperatureNext_ : nullptr, velocityScratch_[current],
                        buoyancyAt(time), dt, next());
   current = 1 - current;
@@ -155,7 +161,7 @@ physics::PressureReport Simulator::step(int substep) {
 }
 
 FrameReport Simulator::advanceFrame() {
-  if (obstaclesChangeAt(scene_, frame_)) updateFlags();
+  if (obstaclesChangeAt(scene_, frame_)) updateFlags(frame_);
   FrameReport report;
   report.frame = frame_;
   for (int substep = 0; substep < scene_.stepsPerFrame; ++substep) {
@@ -185,8 +191,7 @@ void Simulator::restore(const SimulatorState& s) {
       s.temperature.size() != (temperature_.defined() ? cells : 0))
     throw Error("simulator: the saved state does not fit the scene's grid");
   frame_ = s.frame;
-  flags_.upload(sceneFlags(scene_, std::max(frame_ - 1, 0)));
-  solver_->setFlags(flags_);
+  updateFlags(std::max(frame_ - 1, 0));
   density_.upload(s.density);
   velocity_.upload(s.velocity);
   if (temperature_.defined()) temperature_.upload(s.temperature);

@@ -56,7 +56,7 @@ class Simulator {
   physics::PressureReport step(int substep);
   std::vector<physics::SourceState> sourceStates(double time) const;
   physics::Buoyancy buoyancyAt(double time) const;
-  void updateFlags();
+  void updateFlags(int frame);
 
   Context& context_;
   Scene scene_;
@@ -65,6 +65,7 @@ class Simulator {
   Tensor flags_, density_, densityNext_, temperature_, temperatureNext_, velocity_, velocityScratch_[2];
   Tensor densityInflow_, temperatureInflow_, frameInflow_, vorticity_;
   std::vector<Tensor> forceFields_;
+  std::unique_ptr<physics::FlagGrid> flagGrid_;  // the flags with the advection's masks
   physics::SourceTable sources_;
   std::unique_ptr<physics::PressureSolver> solver_;
 };

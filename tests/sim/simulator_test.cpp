@@ -113,7 +113,8 @@ TEST_F(SimulatorTest, SavedFramesObeyTheAdvectionRelation) {
   Tensor u = Tensor::fromHost(context(), simulator.grid().vector(), velocity);
   Tensor expected(context(), simulator.grid().volume());
   Stream stream(context());
-  physics::advect(stream, flags, d, u, &simulator.inflow(), {scene.advection, 1.0f, 1.0f}, expected);
+  const physics::FlagGrid flagGrid(stream, flags);
+  physics::advect(stream, flagGrid, d, u, &simulator.inflow(), {scene.advection, 1.0f, 1.0f}, expected);
   stream.submit();
   EXPECT_TRUE(allClose(simulator.density(), expected.download(), {0, 0}));
 }
