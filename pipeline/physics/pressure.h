@@ -10,7 +10,8 @@
 // divergence left after the projection is −r, that is also the bound on max |div u| afterwards. In a
 // closed domain (no empty cell) the matrix is singular and the mean of the initial residual is removed.
 // Every iteration runs on the device from scalars kept in a small buffer; the host reads max |r| after
-// each one.
+// each one. The solver's vectors use a padded layout [D, H, P], P = W rounded up to a multiple of 4, so
+// its inner kernels work on blocks of four cells read as vec4 texels (shaders/physics/multigrid_blocks.glsl).
 #pragma once
 
 #include <cstdint>
@@ -25,15 +26,15 @@
 namespace smokesvd::physics {
 
 struct PressureOptions {
-  double tolerance = 1e-4;        // relative residual in the max norm: max |r| / max |div u|
+  double tolerance = 1e-4;          // relative residual in the max norm: max |r| / max |div u|
   double absoluteTolerance = 1e-6;  // ... or this max |r| (float rounding floor for nearly divergence-free input)
-  int maxIterations = 100;        // conjugate-gradient iterations before giving up (report says so)
-  bool warmStart = true;          // start from the previous solve's pressure
-  int smoothingSweeps = 2;        // Jacobi sweeps before and after each coarse correction
-  int coarsestSweeps = 16;        // Jacobi sweeps on the coarsest level
-  float jacobiWeight = 0.8f;      // ω of the damped Jacobi sweeps
-  float restrictionScale = 0.5f;  // γ: coarse rhs = γ · sum of the 8 children's residuals
-  int64_t coarsestSide = 4;       // stop coarsening when a side would fall below this
+  int maxIterations = 100;          // conjugate-gradient iterations before giving up (report says so)
+  bool warmStart = true;            // start from the previous solve's pressure
+  int smoothingSweeps = 2;          // Jacobi sweeps before and after each coarse correction
+  int coarsestSweeps = 16;          // Jacobi sweeps on the coarsest level
+  float jacobiWeight = 0.8f;        // ω of the damped Jacobi sweeps
+  float restrictionScale = 0.5f;    // γ: coarse rhs = γ · sum of the 8 children's residuals
+  int64_t coarsestSide = 4;         // stop coarsening when a side would fall below this
 };
 
 struct PressureReport {
@@ -57,19 +58,20 @@ class PressureSolver {
 
   // New obstacles or open sides: rebuilds the multigrid flags and forgets the previous pressure.
   void setFlags(const Tensor& flags);
-  // Sets the pressure the next solve starts from (a checkpoint's), [D, H, W].
-  void setPressure(const Tensor& pressure);
+  // The pressure of the last solve, [D, H, W] values (0 outside the fluid); the next solve starts from it.
+  std::vector<float> pressure() const;
+  // Sets the pressure the next solve starts from (a checkpoint's), [D, H, W] values.
+  void setPressure(const std::vector<float>& pressure);
 
   const GridSize& grid() const { return grid_; }
   const PressureOptions& options() const { return options_; }
-  // The pressure of the last solve [D, H, W] (0 outside the fluid); the next solve starts from it.
-  const Tensor& pressure() const { return solution_[0]; }
   int levels() const { return static_cast<int>(levels_.size()); }
 
  private:
   struct Level {
-    GridSize grid;
-    Tensor flags, masks, rhs, smoothA, smoothB, correction;
+    GridSize grid, padded;
+    Tensor flags;                                    // [D, H, W]
+    Tensor masks, rhs, smoothA, smoothB, scratch, correction;  // padded
   };
   void recordVCycle(Stream& stream, std::size_t level, const Tensor& rhs, const Tensor& out, bool dot) const;
   void recordIteration(Stream& stream, int parity) const;
@@ -77,7 +79,7 @@ class PressureSolver {
   PressureReport start(const Tensor& velocity, bool fromZero);
 
   Context& context_;
-  GridSize grid_;
+  GridSize grid_, padded_;
   PressureOptions options_;
   std::vector<Level> levels_;
   int64_t fluidCells_ = 0;
@@ -87,25 +89,28 @@ class PressureSolver {
 };
 
 // The building blocks, one dispatch each (the solver composes them; tests check each against a CPU
-// reference). The stencil kernels read stencil masks (one per cell: fluid and non-obstacle bits of the
-// cell and its six neighbours; shaders/physics/obstacle_flags.glsl) rather than flags. Partial buffers
-// hold one value per subgroup of a cell dispatch (shaders/physics/pressure_partials.glsl):
-// partialCount(grid) floats, three times that for residual(). Scalar slots are listed in
-// shaders/physics/pressure_scalars.glsl.
+// reference). "Padded" tensors are [D, H, P] with P = W rounded up to a multiple of 4 and hold 0 in the
+// padding and outside the fluid; the block kernels rely on that. Stencil kernels read stencil masks (one
+// per cell: fluid and non-obstacle bits of the cell and its six neighbours; obstacle_flags.glsl) rather
+// than flags. Partial buffers hold one value per subgroup (pressure_partials.glsl): startPartialCount
+// floats per set for residual() (three sets), partialCount for the block kernels. Scalar slots are listed
+// in shaders/physics/pressure_scalars.glsl.
 namespace pressure_ops {
 
-enum class SmoothMode { First = 0, Plain = 1, Corrected = 2 };
 enum class ScalarStep { Start = 0, Direction = 1, Step = 2, Residual = 3 };
 constexpr int kScalarSlots = 8;
 
-int64_t partialCount(const Context& context, const GridSize& grid);
+GridSize paddedGrid(const GridSize& grid);
 GridSize coarserGrid(const GridSize& grid);
+int64_t startPartialCount(const Context& context, const GridSize& grid);  // residual(), one cell per invocation
+int64_t partialCount(const Context& context, const GridSize& grid);       // block kernels of the padded grid
 
+// masks (padded) from flags [D, H, W].
 void stencilMasks(Stream& stream, const Tensor& flags, const Tensor& masks);
 // residual = −div(velocity) − A·pressure at fluid cells; partials: max |b|, max |residual|, Σ residual.
 void residual(Stream& stream, const Tensor& masks, const Tensor& velocity, const Tensor& pressure,
               const Tensor& residual, const Tensor& partials);
-// direction = z + β·directionOld (fluid), product = A·direction, partials = Σ direction·product.
+// direction = z + β·directionOld, product = A·direction (fluid), partials = Σ direction·product.
 void applyDirection(Stream& stream, const Tensor& masks, const Tensor& preconditioned, const Tensor& directionOld,
                     const Tensor& scalars, const Tensor& direction, const Tensor& product, const Tensor& partials);
 // solution = solutionOld + α·direction, residual = residualOld − α·product, partials = max |residual|.
@@ -119,13 +124,17 @@ void scalars(Stream& stream, ScalarStep step, const Tensor& partials, int64_t co
 // residual = residualOld − mean (the scalar buffer's) at fluid cells; partials: max |residual|.
 void removeMean(Stream& stream, const Tensor& masks, const Tensor& residualOld, const Tensor& scalars,
                 const Tensor& residual, const Tensor& partials);
-// One damped Jacobi sweep; `coarse` (the next level's correction) is read in Corrected mode only and
-// `partials` (Σ rhs·xNew) written only if `dot`.
-void smooth(Stream& stream, SmoothMode mode, bool dot, const Tensor& masks, const Tensor& rhs, const Tensor& x,
-            const Tensor& coarse, const GridSize& coarseGrid, float weight, const Tensor& xNew, const Tensor& partials);
-// coarseRhs = scale · Σ over fluid children of (rhs − A x).
-void restrictResidual(Stream& stream, const Tensor& masks, const Tensor& rhs, const Tensor& x,
-                      const Tensor& coarseMasks, float scale, const Tensor& coarseRhs);
+// One damped Jacobi sweep (from x = 0 if `first`; x is then unread); partials (Σ rhs·xNew) only if `dot`.
+void smooth(Stream& stream, bool first, bool dot, const Tensor& masks, const Tensor& rhs, const Tensor& x,
+            float weight, const Tensor& xNew, const Tensor& partials);
+// residual = rhs − A x at fluid cells.
+void levelResidual(Stream& stream, const Tensor& masks, const Tensor& rhs, const Tensor& x, const Tensor& residual);
+// coarseRhs = scale · Σ of the 8 children's residuals at fluid coarse cells.
+void restrictResidual(Stream& stream, const Tensor& residual, const Tensor& coarseMasks, float scale,
+                      const Tensor& coarseRhs);
+// xNew = x + coarse(parent) at fluid cells.
+void prolong(Stream& stream, const Tensor& masks, const Tensor& x, const Tensor& coarse, const Tensor& xNew);
+// Flags [D, H, W] of the next coarser level.
 void coarsenFlags(Stream& stream, const Tensor& flags, const Tensor& coarseFlags);
 // velocityOut = velocity − ∇pressure on faces next to fluid, 0 on faces touching an obstacle.
 void correctVelocity(Stream& stream, const Tensor& masks, const Tensor& pressure, const Tensor& velocity,

@@ -180,7 +180,7 @@ SimulatorState Simulator::state() const {
   s.frame = frame_;
   s.density = density_.download();
   s.velocity = velocity_.download();
-  s.pressure = solver_->pressure().download();
+  s.pressure = solver_->pressure();
   if (temperature_.defined()) s.temperature = temperature_.download();
   return s;
 }
@@ -195,7 +195,7 @@ void Simulator::restore(const SimulatorState& s) {
   density_.upload(s.density);
   velocity_.upload(s.velocity);
   if (temperature_.defined()) temperature_.upload(s.temperature);
-  solver_->setPressure(Tensor::fromHost(context_, grid_.volume(), s.pressure));
+  solver_->setPressure(s.pressure);
 }
 
 }  // namespace smokesvd::sim

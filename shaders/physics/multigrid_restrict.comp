@@ -1,44 +1,36 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// Residual of a fine level restricted to the next coarser one (sum over the 2×2×2 children):
-//   coarseRhs_C = γ · Σ over fluid children f of C of (rhs_f − (A x)_f)   at fluid coarse cells C, else 0,
-//   (A x)_f = Σ over non-obstacle neighbours n of (x_f − x_n),  x_n = 0 unless n is fluid.
-// Children of C are f = 2C + (0|1, 0|1, 0|1) inside the fine grid. γ scales the coarse right-hand side
-// (½ for a coarse operator with the fine stencil's integer weights: the 2h Laplacian is ¼ of it and
-// the rhs an average of 8). Index names and stencil masks in obstacle_flags.glsl; size is the fine size.
+// Restriction of a fine level's residual to the next coarser level, four coarse cells per invocation:
+//   coarseRhs_C = γ · Σ over the children f = 2C + (0|1, 0|1, 0|1) of residual_f   at fluid coarse cells,
+// 0 elsewhere (the residual is 0 outside the fluid and past the fine grid). γ = ½ matches a coarse operator
+// with the fine stencil's integer weights: the 2h Laplacian is ¼ of it and the rhs an average of 8.
+// Coarse block (h, J, K) covers fine texels 2h, 2h+1 of fine rows (2J|2J+1, 2K|2K+1). Blocks in
+// multigrid_blocks.glsl.
 #include "obstacle_flags.glsl"
+#include "multigrid_blocks.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 
-layout(binding = 0) uniform samplerBuffer masks;
-layout(binding = 1) uniform samplerBuffer rhs;
-layout(binding = 2) uniform samplerBuffer x;
-layout(binding = 3) uniform samplerBuffer coarseMasks;
-layout(std430, binding = 4) writeonly buffer CoarseRhs { float coarseRhs[]; };
-layout(push_constant) uniform Push { ivec3 size; float gamma; ivec3 coarseSize; };
-
-float residualAt(int index, uint mask) {
-  const float xf = texelFetch(x, index).x;
-  float ax = 0.0;
-  for (int n = 0; n < 6; ++n) {
-    if (!neighbour_open(mask, n)) continue;
-    ax += xf - (neighbour_fluid(mask, n) ? texelFetch(x, index + neighbour_offset(n, size)).x : 0.0);
-  }
-  return texelFetch(rhs, index).x - ax;
-}
+layout(binding = 0) uniform samplerBuffer residual;
+layout(binding = 1) uniform samplerBuffer coarseMasks;
+layout(std430, binding = 2) writeonly buffer CoarseRhs { vec4 coarseRhs[]; };
+layout(push_constant) uniform Push { ivec3 blocks; float gamma; ivec3 coarseBlocks; };
 
 void main() {
-  const ivec3 coarseCell = dispatch_cell();
-  if (!in_grid(coarseCell, coarseSize)) return;
-  const int coarseIndex = cell_index(coarseCell, coarseSize);
-  float sum = 0.0;
-  if (mask_fluid(stencil_mask(coarseMasks, coarseIndex))) {
-    for (int child = 0; child < 8; ++child) {
-      const ivec3 f = 2 * coarseCell + ivec3(child & 1, (child >> 1) & 1, child >> 2);
-      if (!in_grid(f, size)) continue;
-      const int index = cell_index(f, size);
-      const uint mask = stencil_mask(masks, index);
-      if (mask_fluid(mask)) sum += residualAt(index, mask);
+  const ivec3 c = dispatch_block();
+  if (!block_in_grid(c, coarseBlocks)) return;
+  vec4 sum = vec4(0.0);
+  for (int child = 0; child < 4; ++child) {
+    const ivec3 row = ivec3(0, 2 * c.y + (child & 1), 2 * c.z + (child >> 1));
+    if (row.y >= blocks.y || row.z >= blocks.z) continue;
+    for (int half_ = 0; half_ < 2; ++half_) {
+      const ivec3 f = ivec3(2 * c.x + half_, row.y, row.z);
+      if (f.x >= blocks.x) continue;
+      const vec4 r = texelFetch(residual, block_index(f, blocks));
+      const vec2 pairs = r.xz + r.yw;  // coarse cells 4h + 2·half_ and 4h + 2·half_ + 1
+      if (half_ == 0) sum.xy += pairs;
+      else sum.zw += pairs;
     }
   }
-  coarseRhs[coarseIndex] = gamma * sum;
+  const int t = block_index(c, coarseBlocks);
+  coarseRhs[t] = fluid_lanes(block_masks(coarseMasks, t)) * gamma * sum;
 }

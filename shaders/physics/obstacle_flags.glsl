@@ -20,6 +20,8 @@ const uint FLAG_EMPTY = 4u;
 
 int cell_count(ivec3 size) { return size.x * size.y * size.z; }
 int cell_index(ivec3 c, ivec3 size) { return c.x + size.x * (c.y + size.y * c.z); }
+// The index of cell c in a padded volume [nz, ny, width] (width ≥ nx; multigrid_blocks.glsl).
+int padded_index(ivec3 c, ivec3 size, int width) { return c.x + width * (c.y + size.y * c.z); }
 ivec3 dispatch_cell() { return ivec3(gl_GlobalInvocationID); }
 bool in_grid(ivec3 c, ivec3 size) { return all(greaterThanEqual(c, ivec3(0))) && all(lessThan(c, size)); }
 ivec3 unit_step(int axis) { return ivec3(axis == 0 ? 1 : 0, axis == 1 ? 1 : 0, axis == 2 ? 1 : 0); }

@@ -7,7 +7,9 @@
 //   residual_c = b_c − (A p0)_c  at fluid cells, 0 elsewhere,
 // and per subgroup s (pressure_partials.glsl): partial[s] = max |b|, partial[count + s] = max |residual|,
 // partial[2·count + s] = Σ residual over its cells, count = the number of subgroups in the dispatch.
-// Index names and stencil masks in obstacle_flags.glsl; p0 is the initial guess.
+// Index names and stencil masks in obstacle_flags.glsl; p0 is the initial guess. Masks, p0 and the
+// residual are in the solver's padded layout (width ≥ nx, multigrid_blocks.glsl), the velocity is not;
+// padding cells are left alone (they stay 0).
 #include "obstacle_flags.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 #include "pressure_partials.glsl"
@@ -17,7 +19,7 @@ layout(binding = 1) uniform samplerBuffer velocity;
 layout(binding = 2) uniform samplerBuffer pressure;
 layout(std430, binding = 3) writeonly buffer Residual { float residual[]; };
 layout(std430, binding = 4) writeonly buffer Partials { float partial[]; };
-layout(push_constant) uniform Push { ivec3 size; uint count; };
+layout(push_constant) uniform Push { ivec3 size; int width; uint count; };
 
 void main() {
   const ivec3 c = dispatch_cell();
@@ -26,24 +28,25 @@ void main() {
   float r = 0.0;
   if (in_grid(c, size)) {
     const int item = cell_index(c, size);
-    const uint mask = stencil_mask(masks, item);
+    const int padded = padded_index(c, size, width);
+    const uint mask = stencil_mask(masks, padded);
     if (mask_fluid(mask)) {
-      const float pc = texelFetch(pressure, item).x;
+      const float pc = texelFetch(pressure, padded).x;
       float divergence = 0.0;
       float laplacian = 0.0;
       for (int n = 0; n < 6; ++n) {
         if (!neighbour_open(mask, n)) continue;
-        const int neighbour = item + neighbour_offset(n, size);
         const int axis = n >> 1;
         const bool upper = (n & 1) == 1;
-        const float face = texelFetch(velocity, axis * cells + (upper ? neighbour : item)).x;
+        const float face = texelFetch(velocity, axis * cells + item + (upper ? neighbour_offset(n, size) : 0)).x;
         divergence += upper ? face : -face;
+        const int neighbour = padded + neighbour_offset(n, ivec3(width, size.yz));
         laplacian += pc - (neighbour_fluid(mask, n) ? texelFetch(pressure, neighbour).x : 0.0);
       }
       b = -divergence;
       r = b - laplacian;
     }
-    residual[item] = r;
+    residual[padded] = r;
   }
   STORE_PARTIAL_MAX(partial, 0u, abs(b));
   STORE_PARTIAL_MAX(partial, count, abs(r));

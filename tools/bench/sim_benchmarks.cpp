@@ -73,13 +73,14 @@ sim::Scene benchmarkScene() {
   return scene;
 }
 
-// Nominal bytes of one conjugate-gradient iteration: per level the V-cycle's sweeps (first, plain,
-// corrected, plain), the restriction, then the direction and update kernels on the fine grid.
+// Nominal bytes of one conjugate-gradient iteration, in volumes of the level: per level the V-cycle's
+// sweeps (first 3, plain 4 ×3), residual 4, restriction 1.25, prolongation 3.125; then the direction (5)
+// and update (6) kernels on the fine grid.
 double iterationBytes(const physics::PressureSolver& solver) {
   double cells = static_cast<double>(kGrid.cells()), total = 0;
   for (int level = 0; level < solver.levels(); ++level, cells /= 8) {
     const bool coarsest = level + 1 == solver.levels();
-    total += coarsest ? (3 + 4.0 * (solver.options().coarsestSweeps - 1)) * cells : (3 + 4 + 3.25 + 4.125 + 4) * cells;
+    total += coarsest ? (3 + 4.0 * (solver.options().coarsestSweeps - 1)) * cells : (3 + 3 * 4 + 4 + 1.25 + 3.125) * cells;
   }
   return 4.0 * (total + 11 * static_cast<double>(kGrid.cells()));
 }
@@ -139,22 +140,22 @@ void step(BenchContext& b) {
 void kernels(BenchContext& b) {
   Context& context = b.context();
   namespace pressure = physics::pressure_ops;
-  const double n = static_cast<double>(kGrid.cells()) * 4.0;  // bytes of one volume
+  const double n = static_cast<double>(kGrid.cells()) * 4.0;  // bytes of one volume (64 wide: no padding)
   Tensor flags = physics::closedBoxFlagsTensor(context, kGrid);
   Tensor masks(context, kGrid.volume()), x(context, kGrid.volume()), y(context, kGrid.volume()),
-      z(context, kGrid.volume()), w(context, kGrid.volume());
+      z(context, kGrid.volume()), w(context, kGrid.volume()), v(context, kGrid.volume()), t(context, kGrid.volume());
   Tensor velocity = Tensor::fromHost(context, kGrid.vector(), plumeVelocity(true)), out(context, kGrid.vector());
-  Tensor partials(context, {3 * pressure::partialCount(context, kGrid)}), scalars(context, {pressure::kScalarSlots});
-  Tensor coarseTarget(context, kGrid.volume()), y2(context, kGrid.volume());
+  Tensor partials(context, {3 * pressure::startPartialCount(context, kGrid)}), scalars(context, {pressure::kScalarSlots});
   const physics::GridSize coarse = pressure::coarserGrid(kGrid);
-  Tensor coarseValues(context, coarse.volume()), coarseMasks(context, coarse.volume());
+  Tensor coarseFlags(context, coarse.volume()), coarseMasks(context, coarse.volume()), coarseValues(context, coarse.volume());
   {
     Stream setup(context);
     pressure::stencilMasks(setup, flags, masks);
+    pressure::coarsenFlags(setup, flags, coarseFlags);
+    pressure::stencilMasks(setup, coarseFlags, coarseMasks);
     ops::fill(setup, x, 0.5f);
     ops::fill(setup, y, 0.25f);
     ops::fill(setup, coarseValues, 0.1f);
-    ops::fill(setup, coarseMasks, 16383.0f);
     ops::fill(setup, scalars, 0.5f);
     setup.submit();
   }
@@ -162,16 +163,16 @@ void kernels(BenchContext& b) {
   b.measure("sim/pressure-apply", kShape, 5 * n, 0,
             [&](Stream& s) { pressure::applyDirection(s, masks, x, y, scalars, z, w, partials); });
   b.measure("sim/pressure-update", kShape, 6 * n, 0,
-            [&](Stream& s) { pressure::update(s, x, y, z, w, scalars, coarseTarget, y2, partials); });
-  b.measure("sim/multigrid-smooth", kShape, 4 * n, 0, [&](Stream& s) {
-    pressure::smooth(s, pressure::SmoothMode::Plain, false, masks, x, y, coarseValues, coarse, 0.8f, z, partials);
-  });
-  b.measure("sim/multigrid-smooth-corrected", kShape, 4.125 * n, 0, [&](Stream& s) {
-    pressure::smooth(s, pressure::SmoothMode::Corrected, true, masks, x, y, coarseValues, coarse, 0.8f, z, partials);
-  });
-  b.measure("sim/multigrid-restrict", kShape, 3.25 * n, 0,
-            [&](Stream& s) { pressure::restrictResidual(s, masks, x, y, coarseMasks, 0.5f, coarseValues); });
-  b.measure("sim/pressure-correct", kShape, 8 * n, 0, [&](Stream& s) { pressure::correctVelocity(s, masks, x, velocity, out); });
+            [&](Stream& s) { pressure::update(s, x, y, z, w, scalars, v, t, partials); });
+  b.measure("sim/multigrid-smooth", kShape, 4 * n, 0,
+            [&](Stream& s) { pressure::smooth(s, false, true, masks, x, y, 0.8f, z, partials); });
+  b.measure("sim/multigrid-residual", kShape, 4 * n, 0, [&](Stream& s) { pressure::levelResidual(s, masks, x, y, z); });
+  b.measure("sim/multigrid-restrict", kShape, 1.25 * n, 0,
+            [&](Stream& s) { pressure::restrictResidual(s, x, coarseMasks, 0.5f, coarseValues); });
+  b.measure("sim/multigrid-prolong", kShape, 3.125 * n, 0,
+            [&](Stream& s) { pressure::prolong(s, masks, x, coarseValues, z); });
+  b.measure("sim/pressure-correct", kShape, 8 * n, 0,
+            [&](Stream& s) { pressure::correctVelocity(s, masks, x, velocity, out); });
   b.measure("sim/buoyancy", kShape, 8 * n, 0, [&](Stream& s) {
     physics::addBuoyancy(s, flags, x, nullptr, velocity, physics::Buoyancy{{0, 0, 0}, {0, 0.01f, 0}, {0, 0, 0}}, 1.0f, out);
   });
