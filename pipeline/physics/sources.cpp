@@ -30,6 +30,29 @@ void dispatchCells(Stream& stream, const char* name, std::initializer_list<Arg> 
                    groups(grid.z, kCellWorkgroup[2])});
 }
 
+// The cells a source may cover: its bounding sphere plus the one-cell ramp of the coverage.
+CellBox boundingBox(const SourceState& s) {
+  float radius = s.size[0];
+  if (s.shape == SourceShape::Box) radius = std::sqrt(s.size[0] * s.size[0] + s.size[1] * s.size[1] + s.size[2] * s.size[2]);
+  if (s.shape == SourceShape::Cylinder) radius = std::sqrt(s.size[0] * s.size[0] + s.size[1] * s.size[1]);
+  CellBox box;
+  for (int a = 0; a < 3; ++a) {
+    box.low[a] = static_cast<int32_t>(std::floor(s.centre[a] - radius - 1.0f));
+    box.high[a] = static_cast<int32_t>(std::ceil(s.centre[a] + radius + 1.0f));
+  }
+  return box;
+}
+
+CellBox unite(const CellBox& a, const CellBox& b) {
+  if (a.low == a.high) return b;
+  CellBox box;
+  for (int i = 0; i < 3; ++i) {
+    box.low[i] = std::min(a.low[i], b.low[i]);
+    box.high[i] = std::max(a.high[i], b.high[i]);
+  }
+  return box;
+}
+
 std::array<float, 3> normalised(std::array<float, 3> v) {
   const float length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   if (length <= 0) throw Error("inflow source: a cylinder axis must not be zero");
@@ -64,6 +87,11 @@ void SourceTable::write(std::span<const SourceState> states) {
   }
   table_.upload(values);
   count_ = static_cast<int>(states.size());
+  coverage_ = velocityCoverage_ = CellBox{};
+  for (const SourceState& state : states) {
+    coverage_ = unite(coverage_, boundingBox(state));
+    if (state.setsVelocity) velocityCoverage_ = unite(velocityCoverage_, boundingBox(state));
+  }
 }
 
 void inflowFields(Stream& stream, const Tensor& flags, const Tensor& density, const Tensor* temperature,
@@ -80,11 +108,14 @@ void inflowFields(Stream& stream, const Tensor& flags, const Tensor& density, co
   // Without a temperature field the kernel reads the density and writes its temperature inflow into a
   // scratch volume nobody reads.
   const Tensor scratch = temperature ? Tensor() : Tensor(stream.context(), grid.volume());
+  const CellBox& box = sources.coverage();
   struct {
     GridPush size;
     int32_t sources;
+    std::array<int32_t, 3> low;
     float dt;
-  } p{push(grid), sources.count(), dt};
+    std::array<int32_t, 3> high;
+  } p{push(grid), sources.count(), box.low, dt, box.high};
   dispatchCells(stream, "inflow_density",
                 {flags, density, temperature ? *temperature : density, asVec4(sources.table()), densityInflow,
                  temperatureInflow ? *temperatureInflow : scratch},
@@ -98,10 +129,14 @@ void applySourceVelocity(Stream& stream, const Tensor& flags, const SourceTable&
   requireVector(out, grid, "source velocity (output)");
   if (velocity.sharedBuffer() == out.sharedBuffer())
     throw Error("source velocity: the output velocity must not alias the input");
+  const CellBox& box = sources.velocityCoverage();
   struct {
     GridPush size;
     int32_t sources;
-  } p{push(grid), sources.count()};
+    std::array<int32_t, 3> low;
+    int32_t unused;
+    std::array<int32_t, 3> high;
+  } p{push(grid), sources.count(), box.low, 0, box.high};
   dispatchCells(stream, "inflow_velocity", {flags, asVec4(sources.table()), velocity, out}, p, grid);
 }
 

@@ -39,6 +39,11 @@ struct SourceState {
   std::array<float, 3> noiseOffset{0, 0, 0};
 };
 
+// Cells [low, high) of a box that holds what some sources cover (empty when low = high).
+struct CellBox {
+  std::array<int32_t, 3> low{0, 0, 0}, high{0, 0, 0};
+};
+
 // The device table of `count` sources (at least one row, so an empty scene binds something valid).
 class SourceTable {
  public:
@@ -47,11 +52,15 @@ class SourceTable {
   void write(std::span<const SourceState> states);
   const Tensor& table() const { return table_; }
   int count() const { return count_; }
+  // Boxes around every source and around the velocity-setting ones: the kernels skip cells outside.
+  const CellBox& coverage() const { return coverage_; }
+  const CellBox& velocityCoverage() const { return velocityCoverage_; }
 
  private:
   Tensor table_;
   int capacity_ = 0;
   int count_ = 0;
+  CellBox coverage_, velocityCoverage_;
 };
 
 // Density and temperature inflow of this step at fluid cells (0 elsewhere). `temperature` and

@@ -6,7 +6,8 @@
 // n_s(p) = 1 + amplitude_s·(2·noise_s(p) − 1):
 //   set sources:  target = max_s (density_s · n_s(p) · w_s(p)),   added = Σ_add dt·density_s·n_s(p)·w_s(p),
 //   inflowDensity(c) = max(target − ρ(c), 0) + added;  temperature alike with temperature_s (no noise).
-// 0 at other cells. Index names in obstacle_flags.glsl.
+// 0 at other cells. Cells outside the box [low, high) that holds every source (computed by the host)
+// are 0 without looking at the sources. Index names in obstacle_flags.glsl.
 #include "obstacle_flags.glsl"
 #include "inflow_sources.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -17,7 +18,13 @@ layout(binding = 2) uniform samplerBuffer temperature;
 layout(binding = 3) uniform samplerBuffer table;
 layout(std430, binding = 4) writeonly buffer DensityInflow { float densityInflow[]; };
 layout(std430, binding = 5) writeonly buffer TemperatureInflow { float temperatureInflow[]; };
-layout(push_constant) uniform Push { ivec3 size; int sources; float dt; };
+layout(push_constant) uniform Push {
+  ivec3 size;
+  int sources;
+  ivec3 low;
+  float dt;
+  ivec3 high;
+};
 
 void main() {
   const ivec3 c = dispatch_cell();
@@ -25,7 +32,7 @@ void main() {
   const int item = cell_index(c, size);
   float inflowRho = 0.0;
   float inflowTemperature = 0.0;
-  if (is_fluid(cell_flag(flags, c, size))) {
+  if (all(greaterThanEqual(c, low)) && all(lessThan(c, high)) && is_fluid(cell_flag(flags, c, size))) {
     const vec3 p = vec3(c) + 0.5;
     float targetRho = 0.0, targetTemperature = 0.0, addedRho = 0.0, addedTemperature = 0.0;
     for (int i = 0; i < sources; ++i) {

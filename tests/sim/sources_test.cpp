@@ -95,6 +95,31 @@ TEST_F(SourcesTest, VelocityBlendsOverCoveredFaces) {
   EXPECT_TRUE(allClose(out, ref::applySourceVelocity(ref::FlagView(kGrid, flagValues), sources, ref::widen(velocity))));
 }
 
+TEST_F(SourcesTest, ASmallSourceLeavesTheRestOfTheGridAlone) {
+  SourceState small;
+  small.centre = {3.2f, 4.7f, 9.1f};
+  small.size = {1.6f, 0, 0};
+  small.setsVelocity = true;
+  small.velocity = {0.2f, 0.7f, 0.1f};
+  const std::vector<SourceState> sources{small};
+  physics::SourceTable table(context(), 1);
+  table.write(sources);
+  std::vector<float> density, velocity;
+  Tensor tDensity = randomTensor(context(), kGrid.volume(), 25, 0, 0.5f, &density);
+  Tensor tVelocity = randomTensor(context(), kGrid.vector(), 26, -1, 1, &velocity);
+  Tensor inflow = poisonedTensor(context(), kGrid.volume());
+  Tensor out = poisonedTensor(context(), kGrid.vector());
+  Stream stream(context());
+  physics::inflowFields(stream, flags, tDensity, nullptr, table, 1.0f, inflow, nullptr);
+  physics::applySourceVelocity(stream, flags, table, tVelocity, out);
+  stream.submit();
+  ref::Field expectedDensity, expectedTemperature;
+  const ref::FlagView view(kGrid, flagValues);
+  ref::inflowFields(view, ref::widen(density), ref::widen(density), sources, 1.0, expectedDensity, expectedTemperature);
+  EXPECT_TRUE(allClose(inflow, expectedDensity));
+  EXPECT_TRUE(allClose(out, ref::applySourceVelocity(view, sources, ref::widen(velocity))));
+}
+
 TEST_F(SourcesTest, AnEmptyTableAddsNothing) {
   Tensor density = randomTensor(context(), kGrid.volume(), 24, 0, 1);
   physics::SourceTable table(context(), 0);

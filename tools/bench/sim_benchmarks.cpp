@@ -14,6 +14,7 @@
 #include "nets/ops/elementwise.h"
 #include "pipeline/physics/forces.h"
 #include "pipeline/physics/pressure.h"
+#include "pipeline/physics/sources.h"
 #include "pipeline/sim/simulator.h"
 #include "tools/bench/bench.h"
 
@@ -159,6 +160,8 @@ void kernels(BenchContext& b) {
     ops::fill(setup, scalars, 0.5f);
     setup.submit();
   }
+  // For scale: copying the velocity (three volumes) with the runtime's elementwise copy.
+  b.measure("sim/copy-velocity", kShape, 6 * n, 0, [&](Stream& s) { ops::copy(s, velocity, out); });
   b.measure("sim/pressure-residual", kShape, 6 * n, 0, [&](Stream& s) { pressure::residual(s, masks, velocity, x, z, partials); });
   b.measure("sim/pressure-apply", kShape, 5 * n, 0,
             [&](Stream& s) { pressure::applyDirection(s, masks, x, y, scalars, z, w, partials); });
@@ -176,6 +179,23 @@ void kernels(BenchContext& b) {
   b.measure("sim/buoyancy", kShape, 8 * n, 0, [&](Stream& s) {
     physics::addBuoyancy(s, flags, x, nullptr, velocity, physics::Buoyancy{{0, 0, 0}, {0, 0.01f, 0}, {0, 0, 0}}, 1.0f, out);
   });
+  Tensor vorticity(context, {4, kGrid.z, kGrid.y, kGrid.x});
+  b.measure("sim/vorticity-field", kShape, 7 * n, 0, [&](Stream& s) { physics::vorticityField(s, velocity, vorticity); });
+  b.measure("sim/vorticity-force", kShape, 11 * n, 0, [&](Stream& s) {
+    physics::addVorticityConfinement(s, flags, vorticity, velocity, 0.1f, 1.0f, out);
+  });
+  physics::SourceTable sources(context, 1);
+  physics::SourceState source;
+  source.centre = {32, 8, 32};
+  source.size = {7, 0, 0};
+  source.noiseAmplitude = 0.5f;
+  source.setsVelocity = true;
+  source.velocity = {0, 0.5f, 0};
+  sources.write({&source, 1});
+  b.measure("sim/inflow-density", kShape, 4 * n, 0,
+            [&](Stream& s) { physics::inflowFields(s, flags, x, nullptr, sources, 1.0f, z, nullptr); });
+  b.measure("sim/inflow-velocity", kShape, 7 * n, 0,
+            [&](Stream& s) { physics::applySourceVelocity(s, flags, sources, velocity, out); });
 }
 
 const bool registered = registerBenchmark({"sim/projection", projection}) && registerBenchmark({"sim/step", step}) &&
