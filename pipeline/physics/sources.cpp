@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "nets/ops/elementwise.h"
 #include "runtime/error.h"
 
 namespace smokesvd::physics {
@@ -21,13 +22,32 @@ GridPush push(const GridSize& grid) {
   return {static_cast<int32_t>(grid.x), static_cast<int32_t>(grid.y), static_cast<int32_t>(grid.z)};
 }
 
+// The part of `box` inside the grid, as a low corner and an extent (empty extent: nothing to do).
+struct Region {
+  std::array<int32_t, 3> low{0, 0, 0};
+  std::array<int64_t, 3> extent{0, 0, 0};
+  bool empty() const { return extent[0] <= 0 || extent[1] <= 0 || extent[2] <= 0; }
+};
+Region clip(const CellBox& box, const GridSize& grid) {
+  const int64_t sides[3] = {grid.x, grid.y, grid.z};
+  Region region;
+  for (int a = 0; a < 3; ++a) {
+    const int64_t low = std::clamp<int64_t>(box.low[a], 0, sides[a]);
+    const int64_t high = std::clamp<int64_t>(box.high[a], 0, sides[a]);
+    region.low[a] = static_cast<int32_t>(low);
+    region.extent[a] = high - low;
+  }
+  return region;
+}
+
+// Runs `name` with one invocation per cell of `region`.
 template <typename Push>
-void dispatchCells(Stream& stream, const char* name, std::initializer_list<Arg> args, const Push& push,
-                   const GridSize& grid) {
+void dispatchRegion(Stream& stream, const char* name, std::initializer_list<Arg> args, const Push& push,
+                    const Region& region) {
   auto groups = [](int64_t n, uint32_t size) { return static_cast<uint32_t>((n + size - 1) / size); };
   stream.dispatch(stream.kernel(std::string("physics/") + name, kCellWorkgroup), args, push,
-                  {groups(grid.x, kCellWorkgroup[0]), groups(grid.y, kCellWorkgroup[1]),
-                   groups(grid.z, kCellWorkgroup[2])});
+                  {groups(region.extent[0], kCellWorkgroup[0]), groups(region.extent[1], kCellWorkgroup[1]),
+                   groups(region.extent[2], kCellWorkgroup[2])});
 }
 
 // The cells a source may cover: its bounding sphere plus the one-cell ramp of the coverage.
@@ -108,36 +128,34 @@ void inflowFields(Stream& stream, const Tensor& flags, const Tensor& density, co
   // Without a temperature field the kernel reads the density and writes its temperature inflow into a
   // scratch volume nobody reads.
   const Tensor scratch = temperature ? Tensor() : Tensor(stream.context(), grid.volume());
-  const CellBox& box = sources.coverage();
+  const Tensor& temperatureOut = temperatureInflow ? *temperatureInflow : scratch;
+  ops::fill(stream, densityInflow, 0.0f);
+  ops::fill(stream, temperatureOut, 0.0f);
+  const Region region = clip(sources.coverage(), grid);
+  if (region.empty()) return;
   struct {
     GridPush size;
     int32_t sources;
     std::array<int32_t, 3> low;
     float dt;
-    std::array<int32_t, 3> high;
-  } p{push(grid), sources.count(), box.low, dt, box.high};
-  dispatchCells(stream, "inflow_density",
-                {flags, density, temperature ? *temperature : density, asVec4(sources.table()), densityInflow,
-                 temperatureInflow ? *temperatureInflow : scratch},
-                p, grid);
+  } p{push(grid), sources.count(), region.low, dt};
+  dispatchRegion(stream, "inflow_density",
+                 {flags, density, temperature ? *temperature : density, asVec4(sources.table()), densityInflow,
+                  temperatureOut},
+                 p, region);
 }
 
-void applySourceVelocity(Stream& stream, const Tensor& flags, const SourceTable& sources, const Tensor& velocity,
-                         const Tensor& out) {
+void applySourceVelocity(Stream& stream, const Tensor& flags, const SourceTable& sources, const Tensor& velocity) {
   const GridSize grid = volumeGrid(flags, "source velocity (flags)");
   requireVector(velocity, grid, "source velocity (velocity)");
-  requireVector(out, grid, "source velocity (output)");
-  if (velocity.sharedBuffer() == out.sharedBuffer())
-    throw Error("source velocity: the output velocity must not alias the input");
-  const CellBox& box = sources.velocityCoverage();
+  const Region region = clip(sources.velocityCoverage(), grid);
+  if (region.empty()) return;
   struct {
     GridPush size;
     int32_t sources;
     std::array<int32_t, 3> low;
-    int32_t unused;
-    std::array<int32_t, 3> high;
-  } p{push(grid), sources.count(), box.low, 0, box.high};
-  dispatchCells(stream, "inflow_velocity", {flags, asVec4(sources.table()), velocity, out}, p, grid);
+  } p{push(grid), sources.count(), region.low};
+  dispatchRegion(stream, "inflow_velocity", {flags, asVec4(sources.table()), velocity}, p, region);
 }
 
 }  // namespace smokesvd::physics

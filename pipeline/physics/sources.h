@@ -64,12 +64,13 @@ class SourceTable {
 };
 
 // Density and temperature inflow of this step at fluid cells (0 elsewhere). `temperature` and
-// `temperatureInflow` may both be null (no temperature field).
+// `temperatureInflow` may both be null (no temperature field). Only the cells near the sources are
+// visited; the rest are zeroed.
 void inflowFields(Stream& stream, const Tensor& flags, const Tensor& density, const Tensor* temperature,
                   const SourceTable& sources, float dt, const Tensor& densityInflow, const Tensor* temperatureInflow);
 
-// out = velocity with each velocity-setting source blended in over the faces it covers.
-void applySourceVelocity(Stream& stream, const Tensor& flags, const SourceTable& sources, const Tensor& velocity,
-                         const Tensor& out);
+// Blends each velocity-setting source into the faces it covers, in place; only the cells near those
+// sources are visited.
+void applySourceVelocity(Stream& stream, const Tensor& flags, const SourceTable& sources, const Tensor& velocity);
 
 }  // namespace smokesvd::physics

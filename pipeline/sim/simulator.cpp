@@ -147,10 +147,7 @@ physics::PressureReport Simulator::step(int substep) {
     physics::addForceField(stream, flags_, forceFields_[f], velocityScratch_[current], dt, next());
     current = 1 - current;
   }
-  if (std::any_of(states.begin(), states.end(), [](const physics::SourceState& s) { return s.setsVelocity; })) {
-    physics::applySourceVelocity(stream, flags_, sources_, velocityScratch_[current], next());
-    current = 1 - current;
-  }
+  physics::applySourceVelocity(stream, flags_, sources_, velocityScratch_[current]);
   if (substep == 0) stream.copy(densityInflow_, frameInflow_);
   else ops::add(stream, frameInflow_, densityInflow_, frameInflow_);
   stream.submit();

@@ -6,8 +6,8 @@
 // n_s(p) = 1 + amplitude_s·(2·noise_s(p) − 1):
 //   set sources:  target = max_s (density_s · n_s(p) · w_s(p)),   added = Σ_add dt·density_s·n_s(p)·w_s(p),
 //   inflowDensity(c) = max(target − ρ(c), 0) + added;  temperature alike with temperature_s (no noise).
-// 0 at other cells. Cells outside the box [low, high) that holds every source (computed by the host)
-// are 0 without looking at the sources. Index names in obstacle_flags.glsl.
+// 0 at other cells. The dispatch covers only the box of cells low + gid that holds every source
+// (computed by the host); the host zeroes the outputs first. Index names in obstacle_flags.glsl.
 #include "obstacle_flags.glsl"
 #include "inflow_sources.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -23,16 +23,15 @@ layout(push_constant) uniform Push {
   int sources;
   ivec3 low;
   float dt;
-  ivec3 high;
 };
 
 void main() {
-  const ivec3 c = dispatch_cell();
+  const ivec3 c = low + dispatch_cell();
   if (!in_grid(c, size)) return;
   const int item = cell_index(c, size);
   float inflowRho = 0.0;
   float inflowTemperature = 0.0;
-  if (all(greaterThanEqual(c, low)) && all(lessThan(c, high)) && is_fluid(cell_flag(flags, c, size))) {
+  if (is_fluid(cell_flag(flags, c, size))) {
     const vec3 p = vec3(c) + 0.5;
     float targetRho = 0.0, targetTemperature = 0.0, addedRho = 0.0, addedTemperature = 0.0;
     for (int i = 0; i < sources; ++i) {

@@ -195,7 +195,7 @@ void kernels(BenchContext& b) {
   b.measure("sim/inflow-density", kShape, 4 * n, 0,
             [&](Stream& s) { physics::inflowFields(s, flags, x, nullptr, sources, 1.0f, z, nullptr); });
   b.measure("sim/inflow-velocity", kShape, 7 * n, 0,
-            [&](Stream& s) { physics::applySourceVelocity(s, flags, sources, velocity, out); });
+            [&](Stream& s) { physics::applySourceVelocity(s, flags, sources, out); });
 }
 
 const bool registered = registerBenchmark({"sim/projection", projection}) && registerBenchmark({"sim/step", step}) &&
