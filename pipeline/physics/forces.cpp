@@ -18,9 +18,9 @@ GridPush push(const GridSize& grid) {
 
 template <typename Push>
 void dispatchCells(Stream& stream, const char* name, std::initializer_list<Arg> args, const Push& push,
-                   const GridSize& grid) {
+                   const GridSize& grid, std::vector<int32_t> constants = {}) {
   auto groups = [](int64_t n, uint32_t size) { return static_cast<uint32_t>((n + size - 1) / size); };
-  stream.dispatch(stream.kernel(std::string("physics/") + name, kCellWorkgroup), args, push,
+  stream.dispatch(stream.kernel(std::string("physics/") + name, kCellWorkgroup, std::move(constants)), args, push,
                   {groups(grid.x, kCellWorkgroup[0]), groups(grid.y, kCellWorkgroup[1]),
                    groups(grid.z, kCellWorkgroup[2])});
 }
@@ -49,7 +49,8 @@ void addBuoyancy(Stream& stream, const Tensor& flags, const Tensor& density, con
     float dt;
     std::array<float, 4> uniform, perDensity, perTemperature;
   } p{push(grid), dt, vec4(buoyancy.uniform), vec4(buoyancy.perDensity), vec4(perTemperature)};
-  dispatchCells(stream, "buoyancy", {flags, density, temperature ? *temperature : density, velocity, out}, p, grid);
+  dispatchCells(stream, "buoyancy", {flags, density, temperature ? *temperature : density, velocity, out}, p, grid,
+                {temperature ? 1 : 0});
 }
 
 void addForceField(Stream& stream, const Tensor& flags, const Tensor& force, const Tensor& velocity, float dt,
@@ -71,17 +72,23 @@ void vorticityField(Stream& stream, const Tensor& velocity, const Tensor& vortic
   dispatchCells(stream, "vorticity_field", {velocity, vorticity}, push(grid), grid);
 }
 
+void vorticityForce(Stream& stream, const Tensor& vorticity, float strength, const Tensor& force) {
+  const GridSize grid = vectorGrid(force, "vorticity force (force)");
+  if (vorticity.shape() != Shape{4, grid.z, grid.y, grid.x})
+    throw Error("vorticity force: expected a vorticity field [4, D, H, W] of the grid, got " + toString(vorticity.shape()));
+  struct {
+    GridPush size;
+    float strength;
+  } p{push(grid), strength};
+  dispatchCells(stream, "vorticity_force", {vorticity, force}, p, grid);
+}
+
 void addVorticityConfinement(Stream& stream, const Tensor& flags, const Tensor& vorticity, const Tensor& velocity,
                              float strength, float dt, const Tensor& out) {
   const GridSize grid = checkedGrid(flags, velocity, out, "vorticity confinement");
-  if (vorticity.shape() != Shape{4, grid.z, grid.y, grid.x})
-    throw Error("vorticity confinement: expected a vorticity field [4, D, H, W] of the grid, got " +
-                toString(vorticity.shape()));
-  struct {
-    GridPush size;
-    float dt, strength;
-  } p{push(grid), dt, strength};
-  dispatchCells(stream, "vorticity_force", {flags, vorticity, velocity, out}, p, grid);
+  const Tensor force(stream.context(), grid.vector());
+  vorticityForce(stream, vorticity, strength, force);
+  addForceField(stream, flags, force, velocity, dt, out);
 }
 
 }  // namespace smokesvd::physics

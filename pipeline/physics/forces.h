@@ -34,7 +34,11 @@ void addForceField(Stream& stream, const Tensor& flags, const Tensor& force, con
 // ω and |ω| at cell centres, [4, D, H, W] (centred velocity, central differences; 0 on the outer layer).
 void vorticityField(Stream& stream, const Tensor& velocity, const Tensor& vorticity);
 
-// Vorticity confinement with strength ε from a vorticity field of vorticityField().
+// The confinement force ε·N×ω at cell centres, [3, D, H, W] (0 on the outer layer).
+void vorticityForce(Stream& stream, const Tensor& vorticity, float strength, const Tensor& force);
+
+// Vorticity confinement with strength ε from a vorticity field of vorticityField(): vorticityForce
+// applied like a force field.
 void addVorticityConfinement(Stream& stream, const Tensor& flags, const Tensor& vorticity, const Tensor& velocity,
                              float strength, float dt, const Tensor& out);
 

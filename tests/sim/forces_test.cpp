@@ -69,11 +69,14 @@ TEST_F(ForcesTest, VorticityAndConfinement) {
   const Field expectedVorticity = ref::vorticityField(kGrid, ref::widen(velocityValues));
   EXPECT_TRUE(allClose(vorticity, expectedVorticity));
 
+  Tensor force = poisonedTensor(context(), kGrid.vector());
   Stream confine(context());
+  physics::vorticityForce(confine, vorticity, 0.3f, force);
   physics::addVorticityConfinement(confine, flags, vorticity, velocity, 0.3f, 0.9f, out);
   confine.submit();
   // The reference takes the GPU's vorticity, so that normalising a near-zero gradient cannot diverge.
   const Field gpuVorticity = ref::widen(vorticity.download());
+  EXPECT_TRUE(allClose(force, ref::vorticityForce(kGrid, gpuVorticity, 0.3)));
   EXPECT_TRUE(allClose(out, ref::addVorticityConfinement(view(), gpuVorticity, ref::widen(velocityValues), 0.3, 0.9)));
 }
 

@@ -238,32 +238,33 @@ Field vorticityField(const GridSize& grid, const Field& velocity) {
   return result;
 }
 
+Field vorticityForce(const GridSize& grid, const Field& vorticity, double strength) {
+  const int64_t cells = grid.cells();
+  auto index = [&](Cell c) { return c.i + grid.x * (c.j + grid.y * c.k); };
+  Field result(static_cast<std::size_t>(3 * cells), 0.0);
+  for (int64_t k = 0; k < grid.z; ++k)
+    for (int64_t j = 0; j < grid.y; ++j)
+      for (int64_t i = 0; i < grid.x; ++i) {
+        const Cell c{i, j, k};
+        if (!interior(grid, c)) continue;
+        Vec3d gradient;
+        for (int a = 0; a < 3; ++a)
+          gradient[a] = 0.5 * (vorticity[3 * cells + index(step(c, a, 1))] - vorticity[3 * cells + index(step(c, a, -1))]);
+        const double norm = std::sqrt(gradient[0] * gradient[0] + gradient[1] * gradient[1] + gradient[2] * gradient[2]);
+        if (norm <= 1e-20) continue;
+        for (double& g : gradient) g /= norm;
+        const int64_t at = index(c);
+        const Vec3d w{vorticity[at], vorticity[cells + at], vorticity[2 * cells + at]};
+        result[at] = strength * (gradient[1] * w[2] - gradient[2] * w[1]);
+        result[cells + at] = strength * (gradient[2] * w[0] - gradient[0] * w[2]);
+        result[2 * cells + at] = strength * (gradient[0] * w[1] - gradient[1] * w[0]);
+      }
+  return result;
+}
+
 Field addVorticityConfinement(const FlagView& flags, const Field& vorticity, const Field& velocity, double strength,
                               double dt) {
-  const GridSize& grid = flags.grid();
-  const int64_t cells = grid.cells();
-  auto force = [&](Cell c) -> Vec3d {
-    if (!interior(grid, c)) return {0, 0, 0};
-    Vec3d gradient;
-    for (int a = 0; a < 3; ++a)
-      gradient[a] = 0.5 * (vorticity[3 * cells + flags.index(step(c, a, 1))] - vorticity[3 * cells + flags.index(step(c, a, -1))]);
-    const double norm = std::sqrt(gradient[0] * gradient[0] + gradient[1] * gradient[1] + gradient[2] * gradient[2]);
-    if (norm <= 1e-20) return {0, 0, 0};
-    for (double& g : gradient) g /= norm;
-    const int64_t at = flags.index(c);
-    const Vec3d w{vorticity[at], vorticity[cells + at], vorticity[2 * cells + at]};
-    return {strength * (gradient[1] * w[2] - gradient[2] * w[1]), strength * (gradient[2] * w[0] - gradient[0] * w[2]),
-            strength * (gradient[0] * w[1] - gradient[1] * w[0])};
-  };
-  Field result = velocity;
-  for (int64_t index = 0; index < cells; ++index) {
-    const Cell c = flags.cell(index);
-    for (int a = 0; a < 3; ++a) {
-      if (!forceActs(flags, c, a)) continue;
-      result[a * cells + index] += dt * 0.5 * (force(c)[a] + force(step(c, a, -1))[a]);
-    }
-  }
-  return result;
+  return addForceField(flags, vorticityForce(flags.grid(), vorticity, strength), velocity, dt);
 }
 
 double sourceCoverage(const physics::SourceState& source, const Vec3d& p) {

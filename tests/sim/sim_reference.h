@@ -61,6 +61,7 @@ Field addBuoyancy(const FlagView& flags, const Field& density, const Field& temp
                   const Vec3d& uniform, const Vec3d& perDensity, const Vec3d& perTemperature, double dt);
 Field addForceField(const FlagView& flags, const Field& force, const Field& velocity, double dt);
 Field vorticityField(const GridSize& grid, const Field& velocity);  // [4, D, H, W]
+Field vorticityForce(const GridSize& grid, const Field& vorticity, double strength);  // [3, D, H, W]
 Field addVorticityConfinement(const FlagView& flags, const Field& vorticity, const Field& velocity, double strength,
                               double dt);
 
