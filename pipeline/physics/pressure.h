@@ -32,7 +32,7 @@ struct PressureOptions {
   bool warmStart = true;            // start from the previous solve's pressure
   int smoothingSweeps = 2;          // Jacobi sweeps before and after each coarse correction
   int coarsestSweeps = 16;          // Jacobi sweeps on the coarsest level
-  float jacobiWeight = 0.8f;        // ω of the damped Jacobi sweeps
+  float jacobiWeight = 0.9f;        // ω of the damped Jacobi sweeps (< 1 keeps the V-cycle positive definite)
   float restrictionScale = 0.5f;    // γ: coarse rhs = γ · sum of the 8 children's residuals
   int64_t coarsestSide = 4;         // stop coarsening when a side would fall below this
 };
