@@ -25,6 +25,20 @@ void dispatchCells(Stream& stream, const char* name, std::initializer_list<Arg> 
                    groups(grid.z, kCellWorkgroup[2])});
 }
 
+// Grids whose width is a multiple of 4 run the block variants of the kernels (four cells per invocation,
+// vec4 texels; shaders/physics/force_blocks.glsl).
+bool aligned(const GridSize& grid) { return grid.x % 4 == 0; }
+GridPush blocks(const GridSize& grid) { return {static_cast<int32_t>(grid.x / 4), static_cast<int32_t>(grid.y), static_cast<int32_t>(grid.z)}; }
+
+template <typename Push>
+void dispatchBlocks(Stream& stream, const char* name, std::initializer_list<Arg> args, const Push& push,
+                    const GridSize& grid, std::vector<int32_t> constants = {}) {
+  auto groups = [](int64_t n, uint32_t size) { return static_cast<uint32_t>((n + size - 1) / size); };
+  stream.dispatch(stream.kernel(std::string("physics/") + name, kCellWorkgroup, std::move(constants)), args, push,
+                  {groups(grid.x / 4, kCellWorkgroup[0]), groups(grid.y, kCellWorkgroup[1]),
+                   groups(grid.z, kCellWorkgroup[2])});
+}
+
 // The grid of `flags`, after checking that velocity and out are MAC fields of it and distinct.
 GridSize checkedGrid(const Tensor& flags, const Tensor& velocity, const Tensor& out, const char* what) {
   const GridSize grid = volumeGrid(flags, what);
@@ -48,9 +62,14 @@ void addBuoyancy(Stream& stream, const Tensor& flags, const Tensor& density, con
     GridPush size;
     float dt;
     std::array<float, 4> uniform, perDensity, perTemperature;
-  } p{push(grid), dt, vec4(buoyancy.uniform), vec4(buoyancy.perDensity), vec4(perTemperature)};
-  dispatchCells(stream, "buoyancy", {flags, density, temperature ? *temperature : density, velocity, out}, p, grid,
-                {temperature ? 1 : 0});
+  } p{aligned(grid) ? blocks(grid) : push(grid), dt, vec4(buoyancy.uniform), vec4(buoyancy.perDensity),
+      vec4(perTemperature)};
+  const Tensor& heat = temperature ? *temperature : density;
+  if (aligned(grid))
+    dispatchBlocks(stream, "buoyancy_blocks", {asVec4(flags), asVec4(density), asVec4(heat), asVec4(velocity), out}, p,
+                   grid, {temperature ? 1 : 0});
+  else
+    dispatchCells(stream, "buoyancy", {flags, density, heat, velocity, out}, p, grid, {temperature ? 1 : 0});
 }
 
 void addForceField(Stream& stream, const Tensor& flags, const Tensor& force, const Tensor& velocity, float dt,
@@ -60,8 +79,11 @@ void addForceField(Stream& stream, const Tensor& flags, const Tensor& force, con
   struct {
     GridPush size;
     float dt;
-  } p{push(grid), dt};
-  dispatchCells(stream, "force_field", {flags, force, velocity, out}, p, grid);
+  } p{aligned(grid) ? blocks(grid) : push(grid), dt};
+  if (aligned(grid))
+    dispatchBlocks(stream, "force_field_blocks", {asVec4(flags), asVec4(force), asVec4(velocity), out}, p, grid);
+  else
+    dispatchCells(stream, "force_field", {flags, force, velocity, out}, p, grid);
 }
 
 void vorticityField(Stream& stream, const Tensor& velocity, const Tensor& vorticity) {
@@ -69,7 +91,10 @@ void vorticityField(Stream& stream, const Tensor& velocity, const Tensor& vortic
   if (vorticity.shape() != Shape{4, grid.z, grid.y, grid.x})
     throw Error("vorticity: expected the output [4, " + std::to_string(grid.z) + ", " + std::to_string(grid.y) + ", " +
                 std::to_string(grid.x) + "], got " + toString(vorticity.shape()));
-  dispatchCells(stream, "vorticity_field", {velocity, vorticity}, push(grid), grid);
+  if (aligned(grid))
+    dispatchBlocks(stream, "vorticity_field_blocks", {asVec4(velocity), vorticity}, blocks(grid), grid);
+  else
+    dispatchCells(stream, "vorticity_field", {velocity, vorticity}, push(grid), grid);
 }
 
 void vorticityForce(Stream& stream, const Tensor& vorticity, float strength, const Tensor& force) {
@@ -79,8 +104,11 @@ void vorticityForce(Stream& stream, const Tensor& vorticity, float strength, con
   struct {
     GridPush size;
     float strength;
-  } p{push(grid), strength};
-  dispatchCells(stream, "vorticity_force", {vorticity, force}, p, grid);
+  } p{aligned(grid) ? blocks(grid) : push(grid), strength};
+  if (aligned(grid))
+    dispatchBlocks(stream, "vorticity_force_blocks", {asVec4(vorticity), force}, p, grid);
+  else
+    dispatchCells(stream, "vorticity_force", {vorticity, force}, p, grid);
 }
 
 void addVorticityConfinement(Stream& stream, const Tensor& flags, const Tensor& vorticity, const Tensor& velocity,

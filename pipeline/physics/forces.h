@@ -2,7 +2,8 @@
 // temperature, uniform accelerations (wind, gravity), cell-centred force fields and vorticity
 // confinement. Each acts on the faces mantaflow's KnApplyForceField does: neither neighbouring cell
 // an obstacle, at least one fluid; the other faces are copied. Every function writes `out`, which must
-// not alias `velocity`. docs/simulation.md states the formulas.
+// not alias `velocity`. docs/simulation.md states the formulas. Grids whose width is a multiple of 4 run
+// block variants of the kernels (four cells per invocation, vec4 texels), others one cell per invocation.
 #pragma once
 
 #include <array>

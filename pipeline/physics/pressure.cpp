@@ -70,8 +70,16 @@ GridSize paddedGrid(const GridSize& grid) { return {(grid.x + 3) / 4 * 4, grid.y
 
 GridSize coarserGrid(const GridSize& grid) { return {(grid.x + 1) / 2, (grid.y + 1) / 2, (grid.z + 1) / 2}; }
 
+namespace {
+
+// Widths that are a multiple of 4 need no padding: the kernels that meet the user's layout (the first
+// residual, the velocity correction) then also work on blocks.
+bool aligned(const GridSize& grid) { return grid.x % 4 == 0; }
+
+}  // namespace
+
 int64_t startPartialCount(const Context& context, const GridSize& grid) {
-  return subgroupSlots(context, push(grid));
+  return aligned(grid) ? partialCount(context, grid) : subgroupSlots(context, push(grid));
 }
 
 int64_t partialCount(const Context& context, const GridSize& grid) {
@@ -97,6 +105,15 @@ void residual(Stream& stream, const Tensor& masks, const Tensor& velocity, const
   requirePaddedOf(residual, grid, "pressure residual (residual)");
   const int64_t count = startPartialCount(stream.context(), grid);
   requirePartials(partials, 3 * count, "pressure residual");
+  if (aligned(grid)) {
+    struct {
+      GridPush blocks;
+      uint32_t count;
+    } p{blocks(grid), static_cast<uint32_t>(count)};
+    dispatch(stream, "pressure_residual_blocks", {},
+             {asVec4(masks), asVec4(velocity), asVec4(pressure), residual, partials}, p, blocks(grid));
+    return;
+  }
   struct {
     GridPush size;
     int32_t width;
@@ -217,6 +234,11 @@ void correctVelocity(Stream& stream, const Tensor& masks, const Tensor& pressure
   requirePaddedOf(masks, grid, "pressure correction (masks)");
   requirePaddedOf(pressure, grid, "pressure correction (pressure)");
   requireVector(velocityOut, grid, "pressure correction (output velocity)");
+  if (aligned(grid)) {
+    dispatch(stream, "pressure_correct_blocks", {}, {asVec4(masks), asVec4(pressure), asVec4(velocity), velocityOut},
+             blocks(grid), blocks(grid));
+    return;
+  }
   struct {
     GridPush size;
     int32_t width;

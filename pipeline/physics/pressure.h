@@ -102,7 +102,7 @@ constexpr int kScalarSlots = 8;
 
 GridSize paddedGrid(const GridSize& grid);
 GridSize coarserGrid(const GridSize& grid);
-int64_t startPartialCount(const Context& context, const GridSize& grid);  // residual(), one cell per invocation
+int64_t startPartialCount(const Context& context, const GridSize& grid);  // residual()
 int64_t partialCount(const Context& context, const GridSize& grid);       // block kernels of the padded grid
 
 // masks (padded) from flags [D, H, W].

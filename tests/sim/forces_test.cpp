@@ -12,23 +12,24 @@ namespace {
 using physics::GridSize;
 using ref::Field;
 
-const GridSize kGrid{11, 15, 9};
-
-class ForcesTest : public GpuTest {
+// Odd widths run the one-cell kernels, widths that are a multiple of 4 the block kernels.
+class ForcesTest : public GpuTest, public ::testing::WithParamInterface<GridSize> {
  protected:
   void SetUp() override {
     GpuTest::SetUp();
+    kGrid = GetParam();
     flagValues = ref::randomFlags(kGrid, 3);
     flags = Tensor::fromHost(context(), kGrid.volume(), flagValues);
     velocity = randomTensor(context(), kGrid.vector(), 4, -1, 1, &velocityValues);
   }
   ref::FlagView view() const { return ref::FlagView(kGrid, flagValues); }
 
+  GridSize kGrid;
   std::vector<float> flagValues, velocityValues;
   Tensor flags, velocity;
 };
 
-TEST_F(ForcesTest, BuoyancyFromDensityTemperatureAndWind) {
+TEST_P(ForcesTest, BuoyancyFromDensityTemperatureAndWind) {
   std::vector<float> density, temperature;
   Tensor tDensity = randomTensor(context(), kGrid.volume(), 5, 0, 1, &density);
   Tensor tTemperature = randomTensor(context(), kGrid.volume(), 6, 0, 2, &temperature);
@@ -49,7 +50,7 @@ TEST_F(ForcesTest, BuoyancyFromDensityTemperatureAndWind) {
                                         widen3(buoyancy.uniform), widen3(buoyancy.perDensity), {0, 0, 0}, dt)));
 }
 
-TEST_F(ForcesTest, CentredForceField) {
+TEST_P(ForcesTest, CentredForceField) {
   std::vector<float> force;
   Tensor tForce = randomTensor(context(), kGrid.vector(), 7, -1, 1, &force);
   Tensor out = poisonedTensor(context(), kGrid.vector());
@@ -59,7 +60,7 @@ TEST_F(ForcesTest, CentredForceField) {
   EXPECT_TRUE(allClose(out, ref::addForceField(view(), ref::widen(force), ref::widen(velocityValues), 0.5)));
 }
 
-TEST_F(ForcesTest, VorticityAndConfinement) {
+TEST_P(ForcesTest, VorticityAndConfinement) {
   const Shape vorticityShape{4, kGrid.z, kGrid.y, kGrid.x};
   Tensor vorticity = poisonedTensor(context(), vorticityShape);
   Tensor out = poisonedTensor(context(), kGrid.vector());
@@ -79,6 +80,12 @@ TEST_F(ForcesTest, VorticityAndConfinement) {
   EXPECT_TRUE(allClose(force, ref::vorticityForce(kGrid, gpuVorticity, 0.3)));
   EXPECT_TRUE(allClose(out, ref::addVorticityConfinement(view(), gpuVorticity, ref::widen(velocityValues), 0.3, 0.9)));
 }
+
+std::string gridName(const ::testing::TestParamInfo<GridSize>& param) {
+  return std::to_string(param.param.x) + "x" + std::to_string(param.param.y) + "x" + std::to_string(param.param.z);
+}
+
+INSTANTIATE_TEST_SUITE_P(Grids, ForcesTest, ::testing::Values(GridSize{11, 15, 9}, GridSize{12, 15, 9}), gridName);
 
 }  // namespace
 }  // namespace smokesvd::testing

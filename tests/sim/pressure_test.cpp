@@ -19,7 +19,6 @@ using ref::Field;
 using ref::FlagView;
 
 constexpr int kRz = 0, kAlpha = 1, kBeta = 2, kMaxR = 3, kMaxB = 4, kPap = 5, kMeanR = 6;  // pressure_scalars.glsl
-const GridSize kGrid{13, 17, 11};  // padded width 16
 
 // Real [D, H, W] values into the solver's padded layout [D, H, P] (0 in the padding).
 template <typename T>
@@ -30,10 +29,13 @@ std::vector<T> padded(const GridSize& grid, const std::vector<T>& values) {
     std::copy_n(values.begin() + row * grid.x, grid.x, result.begin() + row * width);
   return result;
 }
-class PressureKernelTest : public GpuTest {
+// Odd widths use the padded layout and the one-cell kernels at its edges; widths that are a multiple of 4
+// run block kernels throughout.
+class PressureKernelTest : public GpuTest, public ::testing::WithParamInterface<GridSize> {
  protected:
   void SetUp() override {
     GpuTest::SetUp();
+    kGrid = GetParam();
     flagValues = ref::randomFlags(kGrid, 7);
     flags = Tensor::fromHost(context(), kGrid.volume(), flagValues);
     masks = Tensor(context(), paddedGrid(kGrid).volume());
@@ -43,8 +45,8 @@ class PressureKernelTest : public GpuTest {
   }
   // A random padded volume that is 0 outside the fluid, as the solver's vectors are; `values` gets the
   // real-layout values.
-  Tensor fluidVolume(uint64_t seed, Field* values, const GridSize& grid = kGrid, const std::vector<float>* gridFlags = nullptr) {
-    const std::vector<float>& f = gridFlags ? *gridFlags : flagValues;
+  Tensor fluidVolume(uint64_t seed, Field* values) { return fluidVolume(seed, values, kGrid, flagValues); }
+  Tensor fluidVolume(uint64_t seed, Field* values, const GridSize& grid, const std::vector<float>& f) {
     std::vector<float> v = randomValues(static_cast<std::size_t>(grid.cells()), seed);
     for (std::size_t i = 0; i < v.size(); ++i)
       if (f[i] != 1.0f) v[i] = 0.0f;
@@ -64,11 +66,12 @@ class PressureKernelTest : public GpuTest {
     return allClose(actual, padded(kGrid, full), tolerance);
   }
 
+  GridSize kGrid;
   std::vector<float> flagValues;
   Tensor flags, masks;
 };
 
-TEST_F(PressureKernelTest, StencilMasksFromFlags) {
+TEST_P(PressureKernelTest, StencilMasksFromFlags) {
   Tensor out = paddedPoison();
   Stream stream(context());
   stencilMasks(stream, flags, out);
@@ -77,7 +80,7 @@ TEST_F(PressureKernelTest, StencilMasksFromFlags) {
   EXPECT_TRUE(matches(out, ref::widen(expected), {0, 0}));
 }
 
-TEST_F(PressureKernelTest, ResidualIsMinusDivergenceMinusLaplacian) {
+TEST_P(PressureKernelTest, ResidualIsMinusDivergenceMinusLaplacian) {
   std::vector<float> velocityValues;
   Tensor velocity = randomTensor(context(), kGrid.vector(), 11, -1, 1, &velocityValues);
   Field pressureValues;
@@ -111,7 +114,7 @@ TEST_F(PressureKernelTest, ResidualIsMinusDivergenceMinusLaplacian) {
   EXPECT_EQ(s[kBeta], 0.0f);
 }
 
-TEST_F(PressureKernelTest, ApplyDirectionAndStepLength) {
+TEST_P(PressureKernelTest, ApplyDirectionAndStepLength) {
   Field z, pOld;
   Tensor tz = fluidVolume(21, &z);
   Tensor tpOld = fluidVolume(22, &pOld);
@@ -135,7 +138,7 @@ TEST_F(PressureKernelTest, ApplyDirectionAndStepLength) {
   EXPECT_NEAR(s[kAlpha], rz / pq, 1e-5 * std::abs(rz / pq));
 }
 
-TEST_F(PressureKernelTest, UpdateStepsAlongTheDirection) {
+TEST_P(PressureKernelTest, UpdateStepsAlongTheDirection) {
   Field x, r, p, q;
   Tensor tx = fluidVolume(31, &x), tr = fluidVolume(32, &r), tp = fluidVolume(33, &p), tq = fluidVolume(34, &q);
   const double alpha = -0.61;
@@ -156,7 +159,7 @@ TEST_F(PressureKernelTest, UpdateStepsAlongTheDirection) {
   EXPECT_NEAR(scalars.download()[kMaxR], ref::maxAbs(expectedR), 1e-6);
 }
 
-TEST_F(PressureKernelTest, MeanRemoval) {
+TEST_P(PressureKernelTest, MeanRemoval) {
   Field r;
   Tensor tr = fluidVolume(81, &r);
   const double mean = 0.123;
@@ -173,7 +176,7 @@ TEST_F(PressureKernelTest, MeanRemoval) {
   EXPECT_NEAR(scalars.download()[kMaxR], ref::maxAbs(expected), 1e-6);
 }
 
-TEST_F(PressureKernelTest, DirectionScalarsFromPartials) {
+TEST_P(PressureKernelTest, DirectionScalarsFromPartials) {
   const int64_t n = 301;
   std::vector<float> values;
   Tensor partial = randomTensor(context(), {n}, 41, -1, 1, &values);
@@ -189,7 +192,7 @@ TEST_F(PressureKernelTest, DirectionScalarsFromPartials) {
   EXPECT_NEAR(s[kBeta], sum / rzOld, 1e-5);
 }
 
-TEST_F(PressureKernelTest, JacobiSweepsFromZeroAndFromAGuess) {
+TEST_P(PressureKernelTest, JacobiSweepsFromZeroAndFromAGuess) {
   Field rhs, x;
   Tensor trhs = fluidVolume(51, &rhs);
   Tensor tx = fluidVolume(52, &x);
@@ -208,7 +211,7 @@ TEST_F(PressureKernelTest, JacobiSweepsFromZeroAndFromAGuess) {
   }
 }
 
-TEST_F(PressureKernelTest, ResidualRestrictionProlongationAndCoarseFlags) {
+TEST_P(PressureKernelTest, ResidualRestrictionProlongationAndCoarseFlags) {
   Field rhs, x;
   Tensor trhs = fluidVolume(61, &rhs);
   Tensor tx = fluidVolume(62, &x);
@@ -234,7 +237,7 @@ TEST_F(PressureKernelTest, ResidualRestrictionProlongationAndCoarseFlags) {
   EXPECT_TRUE(allClose(coarseRhs, padded(coarseGrid, coarsePadded), {1e-5, 1e-5}));
 
   Field coarseValues;
-  Tensor coarse = fluidVolume(63, &coarseValues, coarseGrid, &expectedFlags);
+  Tensor coarse = fluidVolume(63, &coarseValues, coarseGrid, expectedFlags);
   Tensor prolonged = paddedPoison();
   Stream correct(context());
   prolong(correct, masks, tx, coarse, prolonged);
@@ -242,7 +245,7 @@ TEST_F(PressureKernelTest, ResidualRestrictionProlongationAndCoarseFlags) {
   EXPECT_TRUE(matches(prolonged, ref::prolongAdd(view(), x, coarseValues, coarseGrid)));
 }
 
-TEST_F(PressureKernelTest, VelocityCorrection) {
+TEST_P(PressureKernelTest, VelocityCorrection) {
   std::vector<float> velocityValues;
   Tensor velocity = randomTensor(context(), kGrid.vector(), 71, -1, 1, &velocityValues);
   Field pressureValues;
@@ -254,7 +257,7 @@ TEST_F(PressureKernelTest, VelocityCorrection) {
   EXPECT_TRUE(allClose(out, ref::correctVelocity(view(), pressureValues, ref::widen(velocityValues))));
 }
 
-TEST_F(PressureKernelTest, SolverPressureRoundTripsThroughItsPaddedLayout) {
+TEST_P(PressureKernelTest, SolverPressureRoundTripsThroughItsPaddedLayout) {
   physics::PressureSolver solver(context(), flags);
   std::vector<float> values = randomValues(static_cast<std::size_t>(kGrid.cells()), 91);
   for (std::size_t i = 0; i < values.size(); ++i)
@@ -262,6 +265,13 @@ TEST_F(PressureKernelTest, SolverPressureRoundTripsThroughItsPaddedLayout) {
   solver.setPressure(values);
   EXPECT_EQ(solver.pressure(), values);
 }
+
+std::string gridName(const ::testing::TestParamInfo<GridSize>& param) {
+  return std::to_string(param.param.x) + "x" + std::to_string(param.param.y) + "x" + std::to_string(param.param.z);
+}
+
+INSTANTIATE_TEST_SUITE_P(Grids, PressureKernelTest, ::testing::Values(GridSize{13, 17, 11}, GridSize{16, 15, 9}),
+                         gridName);
 
 }  // namespace
 }  // namespace smokesvd::testing
