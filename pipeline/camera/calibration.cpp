@@ -1,0 +1,164 @@
+#include "pipeline/camera/calibration.h"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "runtime/error.h"
+
+namespace smokesvd {
+namespace {
+
+using nlohmann::json;
+
+class FieldReader {
+ public:
+  explicit FieldReader(std::string file) : file_(std::move(file)) {}
+
+  [[noreturn]] void fail(const std::string& field, const std::string& expected) const {
+    throw Error(file_ + ": field '" + field + "': expected " + expected);
+  }
+
+  const json& member(const json& object, const std::string& key, const std::string& field) const {
+    if (!object.is_object() || !object.contains(key)) fail(field, "to be present");
+    return object.at(key);
+  }
+
+  double number(const json& value, const std::string& field) const {
+    if (!value.is_number()) fail(field, "a number");
+    const double x = value.get<double>();
+    if (!std::isfinite(x)) fail(field, "a finite number");
+    return x;
+  }
+
+  std::vector<double> numbers(const json& value, const std::string& field, std::size_t count) const {
+    const std::string expected = "an array of " + std::to_string(count) + " numbers";
+    if (!value.is_array() || value.size() != count) fail(field, expected);
+    std::vector<double> result;
+    for (std::size_t i = 0; i < count; ++i) result.push_back(number(value[i], field + "[" + std::to_string(i) + "]"));
+    return result;
+  }
+
+  Mat4 matrix(const json& value, const std::string& field) const {
+    if (!value.is_array() || value.size() != 4) fail(field, "a 4x4 matrix (4 rows of 4 numbers)");
+    Mat4 m{};
+    for (std::size_t row = 0; row < 4; ++row) {
+      const std::vector<double> r = numbers(value[row], field + "[" + std::to_string(row) + "]", 4);
+      for (std::size_t col = 0; col < 4; ++col) m[4 * row + col] = r[col];
+    }
+    if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1) fail(field, "an affine matrix (last row 0 0 0 1)");
+    Mat4 inverse;
+    if (!invertAffine(m, inverse)) fail(field, "an invertible matrix");
+    return m;
+  }
+
+ private:
+  std::string file_;
+};
+
+CalibratedView readView(const FieldReader& reader, const json& entry, const std::string& field) {
+  CalibratedView view;
+  const json& name = reader.member(entry, "file_name", field + ".file_name");
+  if (!name.is_string()) reader.fail(field + ".file_name", "a string");
+  view.fileName = name.get<std::string>();
+  view.cameraAngleX = reader.number(reader.member(entry, "camera_angle_x", field + ".camera_angle_x"),
+                                    field + ".camera_angle_x");
+  if (view.cameraAngleX <= 0 || view.cameraAngleX >= 3.1)
+    reader.fail(field + ".camera_angle_x", "a field of view in radians in (0, 3.1)");
+  const std::vector<double> hw = reader.numbers(reader.member(entry, "camera_hw", field + ".camera_hw"),
+                                                field + ".camera_hw", 2);
+  if (hw[0] < 1 || hw[1] < 1 || hw[0] != std::floor(hw[0]) || hw[1] != std::floor(hw[1]))
+    reader.fail(field + ".camera_hw", "[height, width] as positive integers");
+  view.height = static_cast<int>(hw[0]);
+  view.width = static_cast<int>(hw[1]);
+  view.cameraToWorld = reader.matrix(reader.member(entry, "transform_matrix", field + ".transform_matrix"),
+                                     field + ".transform_matrix");
+  if (entry.contains("frame_rate")) view.frameRate = reader.number(entry["frame_rate"], field + ".frame_rate");
+  if (entry.contains("frame_num"))
+    view.frameCount = static_cast<int>(reader.number(entry["frame_num"], field + ".frame_num"));
+  return view;
+}
+
+}  // namespace
+
+Mat4 VolumeBox::gridToWorld(const GridSize& grid) const {
+  const Mat4 boxFromGrid = {0, 0, scale[2] / static_cast<double>(grid.depth), 0,
+                            0, scale[1] / static_cast<double>(grid.height), 0, 0,
+                            scale[0] / static_cast<double>(grid.width), 0, 0, 0,
+                            0, 0, 0, 1};
+  return voxelMatrix * boxFromGrid;
+}
+
+const CalibratedView& Calibration::view(const std::string& fileName) const {
+  std::string names;
+  for (const CalibratedView& v : views) {
+    if (v.fileName == fileName) return v;
+    names += (names.empty() ? "" : ", ") + v.fileName;
+  }
+  throw Error("calibration has no view '" + fileName + "'; it has: " + names);
+}
+
+Calibration readCalibration(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  if (!file) throw Error(path.string() + ": cannot open calibration file");
+  json root;
+  try {
+    root = json::parse(file);
+  } catch (const json::exception& e) {
+    throw Error(path.string() + ": not valid JSON (" + e.what() + ")");
+  }
+  const FieldReader reader(path.string());
+  Calibration calibration;
+  for (const char* list : {"train_videos", "test_videos"}) {
+    if (!root.contains(list)) continue;
+    const json& entries = root[list];
+    if (!entries.is_array()) reader.fail(list, "an array of views");
+    for (std::size_t i = 0; i < entries.size(); ++i)
+      calibration.views.push_back(readView(reader, entries[i], std::string(list) + "[" + std::to_string(i) + "]"));
+  }
+  if (calibration.views.empty()) reader.fail("train_videos", "at least one view in train_videos or test_videos");
+  calibration.box.voxelMatrix = reader.matrix(reader.member(root, "voxel_matrix", "voxel_matrix"), "voxel_matrix");
+  const std::vector<double> scale = reader.numbers(reader.member(root, "voxel_scale", "voxel_scale"), "voxel_scale", 3);
+  for (double s : scale)
+    if (s <= 0) reader.fail("voxel_scale", "three positive box sizes [x, y, z]");
+  calibration.box.scale = {scale[0], scale[1], scale[2]};
+  return calibration;
+}
+
+Camera calibratedCamera(const CalibratedView& view, const VolumeBox& box, const GridSize& grid, int width) {
+  if (width < 0) throw Error("calibrated camera '" + view.fileName + "': negative image width");
+  const int w = width == 0 ? view.width : width;
+  const int h = width == 0 ? view.height
+                           : std::max(1, static_cast<int>(std::lround(static_cast<double>(w) * view.height / view.width)));
+  const double focal = 0.5 * w / std::tan(0.5 * view.cameraAngleX);
+  const Mat4 gridToWorld = box.gridToWorld(grid);
+  Mat4 worldToGrid, worldToCamera;
+  if (!invertAffine(gridToWorld, worldToGrid)) throw Error("calibrated camera: the volume box is degenerate");
+  if (!invertAffine(view.cameraToWorld, worldToCamera))
+    throw Error("calibrated camera '" + view.fileName + "': transform_matrix is singular");
+  const Mat4 cameraToGrid = worldToGrid * view.cameraToWorld;
+
+  Camera camera;
+  camera.width = w;
+  camera.height = h;
+  camera.perspective = true;
+  camera.origin = transformPoint(cameraToGrid, {0, 0, 0});
+  camera.direction = transformDirection(cameraToGrid, {-0.5 * w / focal, 0.5 * h / focal, -1.0});
+  camera.directionPerU = transformDirection(cameraToGrid, {1.0 / focal, 0, 0});
+  camera.directionPerV = transformDirection(cameraToGrid, {0, -1.0 / focal, 0});
+  // (a, b, c) = K (camera-space point), K = [[f, 0, -w/2], [0, -f, -h/2], [0, 0, -1]]: u = a / c, v = b / c.
+  const Mat4 intrinsics = {focal, 0, -0.5 * w, 0, 0, -focal, -0.5 * h, 0, 0, 0, -1, 0, 0, 0, 0, 1};
+  const Mat4 projection = intrinsics * worldToCamera * gridToWorld;
+  for (int i = 0; i < 12; ++i) camera.projection[static_cast<std::size_t>(i)] = projection[static_cast<std::size_t>(i)];
+  return camera;
+}
+
+std::array<Vec3, 8> gridCorners(const GridSize& grid) {
+  std::array<Vec3, 8> corners{};
+  for (std::size_t i = 0; i < 8; ++i)
+    corners[i] = {(i & 1) ? static_cast<double>(grid.width) : 0.0, (i & 2) ? static_cast<double>(grid.height) : 0.0,
+                  (i & 4) ? static_cast<double>(grid.depth) : 0.0};
+  return corners;
+}
+
+}  // namespace smokesvd

@@ -1,0 +1,66 @@
+// Cameras: one model for rendering, lifting and evaluation. A Camera is a pixel -> ray map and a point ->
+// pixel projection, both expressed in GRID coordinates, so the kernels never see world space.
+//
+// Grid coordinates: a volume tensor [D, H, W] = [z, y, x] spans the box [0, W] x [0, H] x [0, D]; voxel
+// [i][j][k] (z, y, x) is centred at (k + 1/2, j + 1/2, i + 1/2). y is up. Lengths are in voxels.
+// Pixel coordinates: an image is [height, width], row 0 at the top; pixel (row r, column c) is centred
+// at (u, v) = (c + 1/2, r + 1/2).
+//
+// Orbit cameras (orthographic) turn about the vertical line through the volume centre. At angle a the
+// camera looks along  forward = (-sin a, 0, cos a),  with image right = (cos a, 0, sin a) and up = +y.
+// a = 0 is the front (input) view: it looks along +z (the slice z = 0 is nearest the camera), columns run
+// along +x and rows down -y, so column c of the image is voxel column x = c when the sizes match.
+// a = 90 deg is the side view: it looks along -x, columns run along +z. The image window is the volume's
+// x extent by its y extent (W x H voxels) centred on the volume centre, whatever the angle.
+// Calibrated perspective cameras come from NeRF-style JSON (pipeline/camera/calibration.h).
+#pragma once
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "pipeline/camera/linalg.h"
+
+namespace smokesvd {
+
+struct GridSize {
+  int64_t depth = 0, height = 0, width = 0;  // D = z, H = y, W = x (voxels)
+  Vec3 centre() const { return {0.5 * static_cast<double>(width), 0.5 * static_cast<double>(height),
+                                0.5 * static_cast<double>(depth)}; }
+};
+
+struct Ray {
+  Vec3 origin;
+  Vec3 direction;  // unit length in grid coordinates
+};
+
+struct Camera {
+  int width = 0, height = 0;  // image size in pixels
+  bool perspective = false;
+  // Ray through pixel coordinates (u, v): origin = origin + u originPerU + v originPerV,
+  // direction = normalize(direction + u directionPerU + v directionPerV).
+  Vec3 origin{}, originPerU{}, originPerV{};
+  Vec3 direction{}, directionPerU{}, directionPerV{};
+  // Grid point p -> (a, b, c) = projection * (p, 1); pixel coordinates (u, v) = (a / c, b / c). c > 0 in
+  // front of the camera (c = 1 for orthographic cameras). Row-major 3 x 4.
+  std::array<double, 12> projection{};
+
+  Ray ray(double u, double v) const;
+  // Pixel coordinates of a grid point, or nothing if it lies behind a perspective camera.
+  std::optional<std::array<double, 2>> project(const Vec3& point) const;
+  // Unit viewing direction at the image centre (grid coordinates).
+  Vec3 forward() const;
+};
+
+// The orthographic orbit camera at `angleDegrees` for a volume of `grid`, rendering width x height pixels.
+Camera orbitCamera(double angleDegrees, const GridSize& grid, int width, int height);
+// `views` angles evenly on [0, 180): i * 180 / views degrees.
+std::vector<double> orbitAngles(int views);
+std::vector<Camera> orbitCameras(const std::vector<double>& anglesDegrees, const GridSize& grid, int width,
+                                 int height);
+
+// The orbit angle (degrees, in (-180, 180]) of a camera's central viewing direction about the vertical axis,
+// in the convention above (0 = looking along +z, 90 = looking along -x).
+double orbitAngleOf(const Camera& camera);
+
+}  // namespace smokesvd

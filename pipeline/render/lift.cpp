@@ -1,0 +1,50 @@
+#include "pipeline/render/lift.h"
+
+#include "pipeline/render/atomics.h"
+#include "runtime/error.h"
+
+namespace smokesvd::render {
+namespace {
+
+constexpr std::array<uint32_t, 3> kWorkgroup{64, 1, 1};
+
+struct LiftPush {
+  int32_t width, height, depth;
+  int32_t imageWidth, imageHeight, views;
+};
+
+LiftPush liftPush(const GridSize& g, const ViewSet& v) {
+  return {static_cast<int32_t>(g.width), static_cast<int32_t>(g.height), static_cast<int32_t>(g.depth),
+          v.width, v.height, v.views};
+}
+
+void checkShapes(const char* op, const Tensor& images, const Tensor& lifted, const ViewSet& views,
+                 const GridSize& grid) {
+  const Shape imageShape{views.views, 1, views.height, views.width};
+  const Shape liftedShape{views.views, grid.depth, grid.height, grid.width};
+  const Shape batchedShape{1, views.views, grid.depth, grid.height, grid.width};
+  if (images.shape() != imageShape)
+    throw Error(std::string(op) + ": images must be " + toString(imageShape) + ", got " + toString(images.shape()));
+  if (lifted.shape() != liftedShape && lifted.shape() != batchedShape)
+    throw Error(std::string(op) + ": the lifted volume must be " + toString(liftedShape) + " or " +
+                toString(batchedShape) + ", got " + toString(lifted.shape()));
+}
+
+}  // namespace
+
+void lift(Stream& stream, const Tensor& images, const ViewSet& views, const GridSize& grid, const Tensor& lifted) {
+  checkShapes("lift", images, lifted, views, grid);
+  stream.dispatchFlat(stream.kernel("render/lift", kWorkgroup), {images, asVec4(views.table), lifted},
+                      liftPush(grid, views), static_cast<uint64_t>(lifted.numel()));
+}
+
+void liftBackward(Stream& stream, const Tensor& gradLifted, const ViewSet& views, const GridSize& grid,
+                  const Tensor& gradImages) {
+  checkShapes("lift backward", gradImages, gradLifted, views, grid);
+  requireFloatAtomics(stream.context(), "lift backward");
+  stream.fillZero(gradImages);
+  stream.dispatchFlat(stream.kernel("render/lift_adjoint", kWorkgroup), {gradLifted, asVec4(views.table), gradImages},
+                      liftPush(grid, views), static_cast<uint64_t>(gradLifted.numel()));
+}
+
+}  // namespace smokesvd::render

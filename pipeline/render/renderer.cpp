@@ -1,0 +1,140 @@
+#include "pipeline/render/renderer.h"
+
+#include <cmath>
+
+#include "pipeline/render/atomics.h"
+#include "runtime/context.h"
+#include "runtime/error.h"
+
+namespace smokesvd::render {
+namespace {
+
+constexpr std::array<uint32_t, 3> kWorkgroup{64, 1, 1};
+
+struct MarchPush {
+  int32_t width, height, depth;
+  int32_t imageWidth, imageHeight, views;
+  float step, absorption, ambient, intensity;
+};
+
+struct LightPush {
+  int32_t width, height, depth;
+  float lightX, lightY, lightZ;
+  float step, absorption;
+};
+
+void requireShape(const Tensor& tensor, const Shape& expected, const char* what) {
+  if (tensor.shape() != expected)
+    throw Error(std::string("render: ") + what + " must be " + toString(expected) + ", got " + toString(tensor.shape()));
+}
+
+Shape imageShape(const ViewSet& views) { return {views.views, 1, views.height, views.width}; }
+Shape volumeShape(const GridSize& g) { return {g.depth, g.height, g.width}; }
+
+MarchPush marchPush(const GridSize& g, const ViewSet& views, const RenderSettings& s) {
+  return {static_cast<int32_t>(g.width), static_cast<int32_t>(g.height), static_cast<int32_t>(g.depth),
+          views.width, views.height, views.views, s.step, s.absorption, s.ambient,
+          s.light ? s.light->intensity : 0.0f};
+}
+
+LightPush lightPush(const GridSize& g, const DirectionalLight& light) {
+  const Vec3 l = normalize(light.direction);
+  return {static_cast<int32_t>(g.width), static_cast<int32_t>(g.height), static_cast<int32_t>(g.depth),
+          static_cast<float>(l[0]), static_cast<float>(l[1]), static_cast<float>(l[2]), light.step, light.absorption};
+}
+
+const Tensor& requireShadow(const Tensor* shadow, const GridSize& grid, const RenderSettings& settings) {
+  if (!settings.light) throw Error("render: internal: shadow asked for without a light");
+  if (shadow == nullptr) throw Error("render: a light needs the light-transmittance volume");
+  requireShape(*shadow, volumeShape(grid), "the light-transmittance volume");
+  return *shadow;
+}
+
+void requireFinite(float value, const char* field, bool positive) {
+  if (!std::isfinite(value) || (positive ? value <= 0 : value < 0))
+    throw Error(std::string("render settings: ") + field + " must be " + (positive ? "positive" : "non-negative") +
+                " and finite, got " + std::to_string(value));
+}
+
+}  // namespace
+
+void validate(const RenderSettings& settings) {
+  requireFinite(settings.step, "step", true);
+  requireFinite(settings.absorption, "absorption", false);
+  if (!std::isfinite(settings.ambient)) throw Error("render settings: ambient must be finite");
+  if (settings.light) {
+    requireFinite(settings.light->step, "light step", true);
+    requireFinite(settings.light->absorption, "light absorption", false);
+    if (!std::isfinite(settings.light->intensity)) throw Error("render settings: light intensity must be finite");
+    const double n = length(settings.light->direction);
+    if (!(n > 1e-12) || !std::isfinite(n)) throw Error("render settings: light direction must be a non-zero vector");
+  }
+}
+
+void lightTransmittance(Stream& stream, const Tensor& density, const RenderSettings& settings, const Tensor& shadow) {
+  validate(settings);
+  if (!settings.light) throw Error("render: light transmittance needs a light in the settings");
+  const GridSize grid = volumeGrid(density, "render density");
+  requireShape(shadow, volumeShape(grid), "the light-transmittance volume");
+  stream.dispatchFlat(stream.kernel("render/light_transmittance", kWorkgroup), {density, shadow},
+                      lightPush(grid, *settings.light), static_cast<uint64_t>(density.numel()));
+}
+
+void march(Stream& stream, const Tensor& density, const Tensor* shadow, const ViewSet& views,
+           const RenderSettings& settings, const Tensor& images) {
+  validate(settings);
+  const GridSize grid = volumeGrid(density, "render density");
+  requireShape(images, imageShape(views), "the images");
+  const bool lit = settings.light.has_value();
+  const Tensor& shadowOrDensity = lit ? requireShadow(shadow, grid, settings) : density;
+  const Kernel& kernel = stream.kernel("render/march", kWorkgroup, {lit ? 1 : 0});
+  stream.dispatchFlat(kernel, {density, shadowOrDensity, asVec4(views.table), images}, marchPush(grid, views, settings),
+                      static_cast<uint64_t>(images.numel()));
+}
+
+void render(Stream& stream, const Tensor& density, const ViewSet& views, const RenderSettings& settings,
+            const Tensor& images) {
+  if (!settings.light) {
+    march(stream, density, nullptr, views, settings, images);
+    return;
+  }
+  const GridSize grid = volumeGrid(density, "render density");
+  Tensor shadow(stream.context(), volumeShape(grid));
+  lightTransmittance(stream, density, settings, shadow);
+  march(stream, density, &shadow, views, settings, images);
+}
+
+void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow, const ViewSet& views,
+                    const RenderSettings& settings, const Tensor& images, const Tensor& gradImages,
+                    const Tensor& gradDensity) {
+  validate(settings);
+  requireFloatAtomics(stream.context(), "render backward");
+  const GridSize grid = volumeGrid(density, "render density");
+  requireShape(images, imageShape(views), "the forward images");
+  requireShape(gradImages, imageShape(views), "the image gradient");
+  if (gradDensity.numel() != density.numel())
+    throw Error("render backward: the density gradient " + toString(gradDensity.shape()) +
+                " must match the density " + toString(density.shape()));
+  const MarchPush push = marchPush(grid, views, settings);
+  if (!settings.light) {
+    stream.fillZero(gradDensity);
+    const Tensor unusedShadowGradient(stream.context(), {1});
+    stream.dispatchFlat(stream.kernel("render/march_adjoint", kWorkgroup, {0}),
+                        {density, density, asVec4(views.table), images, gradImages, gradDensity, unusedShadowGradient},
+                        push, static_cast<uint64_t>(images.numel()));
+    return;
+  }
+  const Tensor& shadowVolume = requireShadow(shadow, grid, settings);
+  Tensor direct(stream.context(), volumeShape(grid));
+  Tensor gradShadow(stream.context(), volumeShape(grid));
+  stream.fillZero(direct);
+  stream.fillZero(gradShadow);
+  stream.dispatchFlat(stream.kernel("render/march_adjoint", kWorkgroup, {1}),
+                      {density, shadowVolume, asVec4(views.table), images, gradImages, direct, gradShadow}, push,
+                      static_cast<uint64_t>(images.numel()));
+  stream.dispatchFlat(stream.kernel("render/light_transmittance_adjoint", kWorkgroup),
+                      {shadowVolume, gradShadow, direct, gradDensity}, lightPush(grid, *settings.light),
+                      static_cast<uint64_t>(density.numel()));
+}
+
+}  // namespace smokesvd::render

@@ -1,0 +1,62 @@
+// The differentiable volume renderer: emission-absorption ray marching of a density volume, optionally lit
+// by one directional light with self-shadowing, every view in one dispatch.
+//
+// Typical use (e.g. 16 orbit views of each simulated frame):
+//   const auto cameras = orbitCameras(orbitAngles(16), grid, 64, 112);
+//   render::ViewSet views = render::uploadViews(context, cameras);       // once
+//   Tensor images(context, {16, 1, 112, 64});
+//   render::render(stream, density, views, settings, images);           // density [D, H, W]
+//   stream.submit();
+//
+// Model (docs/rendering.md), per ray with samples k at a fixed step (voxels) inside the volume:
+//   a_k = 1 - exp(-absorption * density_k * step),  T_k = prod_{j<k} (1 - a_k),  image = sum_k T_k a_k S_k
+// with source S_k = ambient, plus intensity * T_L(p_k) with a light, T_L being the light's transmittance
+// from p_k through the volume. Density is sampled trilinearly with zero padding. Images are [V, 1, H, W],
+// row 0 at the top; the background is black. Lengths are grid units (voxels).
+//
+// Gradients: renderBackward gives the exact d loss / d density, including the path through the shadow.
+// It scatters with float atomics (Context::info().float32AtomicAdd; lavapipe and NVIDIA have them).
+#pragma once
+
+#include <optional>
+
+#include "pipeline/render/view_set.h"
+#include "runtime/stream.h"
+
+namespace smokesvd::render {
+
+struct DirectionalLight {
+  Vec3 direction{-0.5, 1.0, -1.0};  // toward the light, grid coordinates (normalised on use)
+  float intensity = 1.0f;
+  float step = 1.0f;                // light march step, voxels
+  float absorption = 1.0f;          // extinction per unit density per voxel along the light path
+};
+
+struct RenderSettings {
+  float step = 1.0f;        // ray march step, voxels
+  float absorption = 1.0f;  // extinction per unit density per voxel
+  float ambient = 1.0f;     // source radiance everywhere (the whole source without a light)
+  std::optional<DirectionalLight> light;
+};
+
+// Throws Error naming the field unless steps are positive and every number is finite (absorptions >= 0).
+void validate(const RenderSettings& settings);
+
+// Renders density [D, H, W] through every view into images [V, 1, h, w].
+void render(Stream& stream, const Tensor& density, const ViewSet& views, const RenderSettings& settings,
+            const Tensor& images);
+
+// The pieces render() is made of, for callers that keep the shadow volume for the backward pass.
+// lightTransmittance: T_L at every voxel centre, shadow [D, H, W]; needs settings.light.
+void lightTransmittance(Stream& stream, const Tensor& density, const RenderSettings& settings, const Tensor& shadow);
+// march: the camera rays; `shadow` is required with a light and ignored without.
+void march(Stream& stream, const Tensor& density, const Tensor* shadow, const ViewSet& views,
+           const RenderSettings& settings, const Tensor& images);
+
+// d loss / d density from gradImages = d loss / d images, given the forward's images (and shadow, with a
+// light). Writes gradDensity [D, H, W].
+void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow, const ViewSet& views,
+                    const RenderSettings& settings, const Tensor& images, const Tensor& gradImages,
+                    const Tensor& gradDensity);
+
+}  // namespace smokesvd::render

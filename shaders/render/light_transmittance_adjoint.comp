@@ -1,0 +1,54 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Adjoint of light_transmittance.comp, as a gather. With H(v) = -absorption * step * T_L(v) * gT(v)
+// (gT = dL/dT_L), the density gradient is
+//   g_sigma(q) = direct(q) + sum_{j >= 0} H~(c_q - (j + 1/2) * step * l)
+// where H~ is H sampled trilinearly with zero padding: the forward sample of voxel v at c_v + s_j gives q the
+// weight tent(c_v + s_j - c_q), which is the trilinear weight of v at c_q - s_j. The march away from the light
+// stops where it leaves the box [-1/2, N + 1/2]. direct(q) is the gradient that reached sigma by other paths.
+#include "index.glsl"
+#include "sampling.glsl"
+layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
+
+layout(binding = 0) uniform samplerBuffer transmittance;
+layout(binding = 1) uniform samplerBuffer grad_transmittance;
+layout(binding = 2) uniform samplerBuffer direct;
+layout(std430, binding = 3) writeonly buffer GradDensity { float grad_density[]; };
+layout(push_constant) uniform Push {
+  int width, height, depth;
+  float light_x, light_y, light_z;
+  float step_length;
+  float absorption;
+};
+
+float sample_h(ivec3 size, vec3 p) {
+  ivec3 base;
+  vec3 f;
+  trilinear_corners(p, base, f);
+  float value = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+    const ivec3 v = base + offset;
+    if (!voxel_inside(v, size)) continue;
+    const int index = voxel_index(v, size);
+    value += corner_weight(offset, f) * texelFetch(transmittance, index).x * texelFetch(grad_transmittance, index).x;
+  }
+  return value;
+}
+
+void main() {
+  const uint item = flat_index();
+  const ivec3 size = ivec3(width, height, depth);
+  if (item >= uint(width * height * depth)) return;
+  const int x = int(item) % width, y = (int(item) / width) % height, z = int(item) / (width * height);
+  const vec3 away = -step_length * vec3(light_x, light_y, light_z);
+  const vec3 lo = vec3(-0.5), hi = vec3(size) + 0.5;
+  const vec3 centre = vec3(x, y, z) + 0.5;
+  float sum = 0.0;
+  for (float j = 0.5;; j += 1.0) {
+    const vec3 p = centre + j * away;
+    if (any(lessThanEqual(p, lo)) || any(greaterThanEqual(p, hi))) break;
+    sum += sample_h(size, p);
+  }
+  grad_density[item] = texelFetch(direct, int(item)).x - absorption * step_length * sum;
+}

@@ -1,0 +1,53 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Emission-absorption ray marching, every view of one volume in one dispatch (one invocation per pixel).
+// View v, pixel (row r, column c): ray o + t d (unit d, grid coordinates, camera.glsl) clipped to the box
+// [-1/2, N + 1/2] (where the zero-padded density can be non-zero) as [t0, t1]; samples at
+// t_k = t0 + (k + 1/2) * step for t_k < t1, k = 0, 1, ...:
+//   sigma_k = density(p_k)                      trilinear, zero padding
+//   S_k     = ambient + intensity * T_L(p_k)    with LIGHT (T_L trilinear, clamped); else S_k = ambient
+//   a_k     = 1 - exp(-absorption * sigma_k * step)
+//   T_0 = 1, T_{k+1} = T_k (1 - a_k)
+//   image[v, 0, r, c] = sum_k T_k a_k S_k
+#include "index.glsl"
+#include "sampling.glsl"
+#include "camera.glsl"
+layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
+layout(constant_id = 3) const int LIGHT = 0;
+
+layout(binding = 0) uniform samplerBuffer density;
+layout(binding = 1) uniform samplerBuffer light_transmittance;  // [D, H, W]; any tensor without LIGHT
+layout(binding = 2) uniform samplerBuffer cameras;              // vec4 texels
+layout(std430, binding = 3) writeonly buffer Image { float image[]; };
+layout(push_constant) uniform Push {
+  int width, height, depth;
+  int image_width, image_height, views;
+  float step_length;
+  float absorption;
+  float ambient;
+  float intensity;
+};
+
+void main() {
+  const uint item = flat_index();
+  if (item >= uint(views * image_height * image_width)) return;
+  const int column = int(item) % image_width;
+  const int row = (int(item) / image_width) % image_height;
+  const int view = int(item) / (image_width * image_height);
+  const ivec3 size = ivec3(width, height, depth);
+
+  vec3 origin, direction;
+  camera_ray(cameras, view, vec2(column, row) + 0.5, origin, direction);
+  const vec2 span = ray_box(origin, direction, vec3(-0.5), vec3(size) + 0.5);
+  float radiance = 0.0;
+  float transmittance = 1.0;
+  for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
+    const vec3 p = origin + t * direction;
+    const float sigma = sample_zero(density, size, p);
+    const float source = LIGHT != 0 ? ambient + intensity * sample_clamped(light_transmittance, size, p) : ambient;
+    const float alpha = 1.0 - exp(-absorption * sigma * step_length);
+    radiance += transmittance * alpha * source;
+    transmittance *= 1.0 - alpha;
+  }
+  image[item] = radiance;
+}

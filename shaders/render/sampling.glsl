@@ -1,0 +1,57 @@
+// Trilinear sampling of a [D, H, W] volume (x fastest) read through a float samplerBuffer, at a point p in
+// grid coordinates (voxel (x, y, z) centred at (x + 1/2, y + 1/2, z + 1/2)).
+//   zero padding:  voxels outside the grid read 0, so the value fades to 0 over the half voxel past the box;
+//   clamp to edge: the point is clamped to the outermost voxel centres first.
+// trilinear_corners() gives the base voxel and fractions; the weight of corner (dx, dy, dz) is
+// (dx ? f.x : 1 - f.x) (dy ? f.y : 1 - f.y) (dz ? f.z : 1 - f.z).
+#ifndef SMOKESVD_RENDER_SAMPLING_GLSL
+#define SMOKESVD_RENDER_SAMPLING_GLSL
+
+void trilinear_corners(vec3 p, out ivec3 base, out vec3 f) {
+  const vec3 q = p - 0.5;
+  const vec3 fl = floor(q);
+  base = ivec3(fl);
+  f = q - fl;
+}
+
+int voxel_index(ivec3 v, ivec3 size) { return (v.z * size.y + v.y) * size.x + v.x; }
+
+bool voxel_inside(ivec3 v, ivec3 size) { return all(greaterThanEqual(v, ivec3(0))) && all(lessThan(v, size)); }
+
+float corner_weight(ivec3 corner, vec3 f) {
+  const vec3 w = mix(1.0 - f, f, vec3(corner));
+  return w.x * w.y * w.z;
+}
+
+float sample_zero(samplerBuffer volume, ivec3 size, vec3 p) {
+  ivec3 base;
+  vec3 f;
+  trilinear_corners(p, base, f);
+  float value = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+    const ivec3 v = base + offset;
+    if (voxel_inside(v, size)) value += corner_weight(offset, f) * texelFetch(volume, voxel_index(v, size)).x;
+  }
+  return value;
+}
+
+vec3 clamp_to_centres(vec3 p, ivec3 size) { return clamp(p, vec3(0.5), vec3(size) - 0.5); }
+
+// Corner voxel of a clamped lookup: the base is kept inside the grid (the weight of a corner past the edge is 0
+// after clamping, except on a grid of size 1, where both corners are the same voxel).
+ivec3 clamped_voxel(ivec3 v, ivec3 size) { return clamp(v, ivec3(0), size - 1); }
+
+float sample_clamped(samplerBuffer volume, ivec3 size, vec3 p) {
+  ivec3 base;
+  vec3 f;
+  trilinear_corners(clamp_to_centres(p, size), base, f);
+  float value = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+    value += corner_weight(offset, f) * texelFetch(volume, voxel_index(clamped_voxel(base + offset, size), size)).x;
+  }
+  return value;
+}
+
+#endif

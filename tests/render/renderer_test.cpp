@@ -1,0 +1,116 @@
+#include <gtest/gtest.h>
+
+#include "pipeline/render/renderer.h"
+#include "runtime/error.h"
+#include "tests/harness/compare.h"
+#include "tests/harness/gpu_test.h"
+#include "tests/harness/gradcheck.h"
+#include "tests/harness/random.h"
+#include "tests/render/reference.h"
+#include "tests/render/scenes.h"
+
+namespace smokesvd::testing {
+namespace {
+
+struct Scene {
+  GridSize grid;
+  int width, height;
+};
+
+class RendererTest : public GpuTest, public ::testing::WithParamInterface<bool> {
+ protected:
+  render::RenderSettings settings() const { return GetParam() ? litSettings() : unlitSettings(); }
+};
+
+TEST_P(RendererTest, ForwardMatchesReference) {
+  for (const Scene& scene : {Scene{{5, 7, 6}, 6, 7}, Scene{{9, 11, 7}, 5, 9}}) {
+    const std::vector<Camera> cameras = mixedCameras(scene.grid, scene.width, scene.height);
+    std::vector<float> density;
+    const Tensor volume = randomTensor(context(), {scene.grid.depth, scene.grid.height, scene.grid.width}, 11, 0.0f,
+                                       1.5f, &density);
+    const render::ViewSet views = render::uploadViews(context(), cameras);
+    Tensor images = poisonedTensor(context(), {views.views, 1, scene.height, scene.width});
+    Stream stream(context());
+    render::render(stream, volume, views, settings(), images);
+    stream.submit();
+    const std::vector<double> expected = reference::render(toDouble(density), scene.grid, cameras, settings());
+    EXPECT_TRUE(allClose(images, expected, {2e-5, 2e-4}));
+  }
+}
+
+TEST_P(RendererTest, BackwardMatchesFiniteDifferences) {
+  const GridSize grid{5, 7, 6};
+  const std::vector<Camera> cameras = mixedCameras(grid, 6, 7);
+  const render::RenderSettings s = settings();
+  std::vector<float> density, upstream;
+  const Tensor volume = randomTensor(context(), {grid.depth, grid.height, grid.width}, 21, 0.0f, 1.5f, &density);
+  const render::ViewSet views = render::uploadViews(context(), cameras);
+  const Tensor gradImages = randomTensor(context(), {views.views, 1, 7, 6}, 22, -1.0f, 1.0f, &upstream);
+  Tensor images(context(), {views.views, 1, 7, 6});
+  Tensor shadow(context(), {grid.depth, grid.height, grid.width});
+  Tensor gradDensity = poisonedTensor(context(), volume.shape());
+  Stream stream(context());
+  if (s.light) render::lightTransmittance(stream, volume, s, shadow);
+  render::march(stream, volume, s.light ? &shadow : nullptr, views, s, images);
+  render::renderBackward(stream, volume, s.light ? &shadow : nullptr, views, s, images, gradImages, gradDensity);
+  stream.submit();
+  const std::vector<double> expected = numericVjp(
+      [&](std::span<const double> x) { return reference::render({x.begin(), x.end()}, grid, cameras, s); },
+      toDouble(density), toDouble(upstream));
+  EXPECT_TRUE(allClose(gradDensity, expected, {2e-4, 2e-3}));
+}
+
+INSTANTIATE_TEST_SUITE_P(LightOffOn, RendererTest, ::testing::Bool(),
+                         [](const auto& param) { return param.param ? "Lit" : "Unlit"; });
+
+TEST_F(GpuTest, ShadowPassMatchesReference) {
+  const GridSize grid{7, 5, 9};
+  const render::RenderSettings s = litSettings();
+  std::vector<float> density;
+  const Tensor volume = randomTensor(context(), {grid.depth, grid.height, grid.width}, 31, 0.0f, 1.0f, &density);
+  Tensor shadow = poisonedTensor(context(), volume.shape());
+  Stream stream(context());
+  render::lightTransmittance(stream, volume, s, shadow);
+  stream.submit();
+  EXPECT_TRUE(allClose(shadow, reference::lightTransmittance(toDouble(density), grid, *s.light), {1e-5, 1e-4}));
+}
+
+TEST_F(GpuTest, FrontViewColumnsAreVoxelColumns) {
+  // One lit voxel column along z at (x = 2, y = 3): the front view shows it at column 2, row H - 1 - 3.
+  const GridSize grid{4, 6, 5};
+  std::vector<float> density(static_cast<std::size_t>(4 * 6 * 5), 0.0f);
+  for (int z = 0; z < 4; ++z) density[static_cast<std::size_t>((z * 6 + 3) * 5 + 2)] = 1.0f;
+  const Tensor volume = Tensor::fromHost(context(), {4, 6, 5}, density);
+  const std::vector<Camera> cameras = orbitCameras({0.0}, grid, 5, 6);
+  const render::ViewSet views = render::uploadViews(context(), cameras);
+  Tensor images = poisonedTensor(context(), {1, 1, 6, 5});
+  Stream stream(context());
+  render::render(stream, volume, views, unlitSettings(), images);
+  stream.submit();
+  const std::vector<float> image = images.download();
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 5; ++c) {
+      const float value = image[static_cast<std::size_t>(r * 5 + c)];
+      if (r == 2 && c == 2) EXPECT_GT(value, 0.5f);
+      else EXPECT_LT(value, 0.5f * image[2 * 5 + 2]) << "row " << r << " column " << c;
+    }
+}
+
+TEST_F(GpuTest, RendererRejectsBadShapesAndSettings) {
+  const GridSize grid{3, 4, 5};
+  const Tensor volume(context(), {3, 4, 5});
+  const render::ViewSet views = render::uploadViews(context(), orbitCameras({0.0, 90.0}, grid, 5, 4));
+  Stream stream(context());
+  EXPECT_THROW(render::render(stream, volume, views, unlitSettings(), Tensor(context(), {1, 1, 4, 5})), Error);
+  EXPECT_THROW(render::render(stream, Tensor(context(), {2, 3, 4, 5}), views, unlitSettings(),
+                              Tensor(context(), {2, 1, 4, 5})),
+               Error);
+  render::RenderSettings bad = unlitSettings();
+  bad.step = 0;
+  EXPECT_THROW(render::render(stream, volume, views, bad, Tensor(context(), {2, 1, 4, 5})), Error);
+  const std::vector<Camera> mixed = {orbitCamera(0, grid, 5, 4), orbitCamera(0, grid, 4, 4)};
+  EXPECT_THROW(render::uploadViews(context(), mixed), Error);
+}
+
+}  // namespace
+}  // namespace smokesvd::testing
