@@ -39,7 +39,7 @@ Buffer::Buffer(Context& context, VkDeviceSize bytes, bool hostVisible) : context
 
   VkMemoryRequirements requirements;
   vkGetBufferMemoryRequirements(device, buffer_, &requirements);
-  const bool mappable = hostVisible || context.info().unifiedMemory;
+  const bool mappable = hostVisible || context.mappedBuffers();
   const VkMemoryPropertyFlags wanted = mappable
                                            ? VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT
                                            : VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;

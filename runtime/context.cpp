@@ -90,7 +90,8 @@ std::vector<DeviceInfo> Context::listDevices(ContextOptions) {
   return queryDevices(handle.instance);
 }
 
-Context::Context(ContextOptions options) : validation_(options.validation || envFlag("SMOKESVD_VALIDATION")) {
+Context::Context(ContextOptions options)
+    : validation_(options.validation || envFlag("SMOKESVD_VALIDATION")), forceStaging_(options.forceStaging) {
   VkDebugUtilsMessengerCreateInfoEXT messenger = messengerInfo(this);
   instance_ = createInstance(validation_, &messenger);
   try {

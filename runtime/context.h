@@ -25,6 +25,8 @@ struct ContextOptions {
   std::string device;
   // Enable VK_LAYER_KHRONOS_validation. Also on when SMOKESVD_VALIDATION=1.
   bool validation = false;
+  // Move data through staging buffers even where memory is unified, as on a discrete GPU (tests that path).
+  bool forceStaging = false;
 };
 
 class Context {
@@ -46,6 +48,8 @@ class Context {
   BufferPool& buffers() { return *bufferPool_; }
   const Kernel& kernel(const KernelKey& key);
   bool validationEnabled() const { return validation_; }
+  // Whether tensor buffers are mapped and read/written with memcpy (unified memory) or staged.
+  bool mappedBuffers() const { return info_.unifiedMemory && !forceStaging_; }
   PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet() const { return cmdPushDescriptorSet_; }
 
   // Messages the validation layer reported since the last call; emptied by the call.
@@ -66,6 +70,7 @@ class Context {
   void endOneTime(VkCommandBuffer commands, std::string_view what);
 
   bool validation_ = false;
+  bool forceStaging_ = false;
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   VkPhysicalDevice physicalDevice_ = VK_NULL_HANDLE;

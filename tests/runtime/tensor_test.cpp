@@ -2,6 +2,7 @@
 
 #include "runtime/buffer.h"
 #include "runtime/error.h"
+#include "runtime/stream.h"
 #include "runtime/tensor.h"
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
@@ -73,6 +74,34 @@ TEST(SizeClass, RoundsUpToPowersOfTwoAndThreeHalves) {
   EXPECT_EQ(BufferPool::sizeClass(384), 384u);
   EXPECT_EQ(BufferPool::sizeClass(385), 512u);
   EXPECT_EQ(BufferPool::sizeClass(1000), 1024u);
+}
+
+}  // namespace
+}  // namespace smokesvd::testing
+
+namespace smokesvd::testing {
+namespace {
+
+// The discrete-GPU path (device-local buffers, staging copies), exercised on whatever device is here.
+TEST(StagingTest, RoundTripsAndRunsKernelsThroughStagingBuffers) {
+  ContextOptions options;
+  options.validation = true;
+  options.forceStaging = true;
+  Context staged(options);
+  ASSERT_FALSE(staged.mappedBuffers());
+  {
+    std::vector<float> values;
+    Tensor x = randomTensor(staged, {1001}, 7, -1, 1, &values);
+    EXPECT_EQ(x.buffer().mapped(), nullptr);
+    EXPECT_EQ(x.download(), values);
+    Tensor y = poisonedTensor(staged, {1001});
+    Stream stream(staged);
+    stream.copy(x, y);
+    stream.submit();
+    EXPECT_EQ(y.download(), values);
+  }
+  const std::vector<std::string> messages = staged.takeValidationMessages();
+  EXPECT_TRUE(messages.empty()) << messages.front();
 }
 
 }  // namespace

@@ -19,7 +19,7 @@ namespace smokesvd::cli {
 struct GlobalOptions {
   std::string device;       // --device N|NAME (else SMOKESVD_DEVICE, else the best device)
   bool validation = false;  // --validation
-  ContextOptions contextOptions() const { return {device, validation}; }
+  ContextOptions contextOptions() const { return {device, validation, false}; }
 };
 
 using Action = std::function<void()>;

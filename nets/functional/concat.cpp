@@ -1,0 +1,74 @@
+#include "nets/functional/concat.h"
+
+#include <algorithm>
+
+#include "nets/op_registry.h"
+#include "nets/ops/concat.h"
+
+namespace smokesvd::fn {
+
+Var concatChannels(Tape& tape, const std::vector<Var>& inputs) {
+  std::vector<Tensor> values;
+  std::vector<Shape> shapes;
+  for (const Var& input : inputs) {
+    values.push_back(input->value);
+    shapes.push_back(input->value.shape());
+  }
+  Tensor y(tape.context(), ops::concatShape(shapes));
+  ops::concatChannels(tape.stream(), values, y);
+  Var out = tape.output(y, {});
+  out->requiresGrad =
+      tape.gradEnabled() && std::any_of(inputs.begin(), inputs.end(), [](const Var& v) { return v->requiresGrad; });
+  if (out->requiresGrad) {
+    tape.record({out}, [inputs, out](Tape& t) {
+      const Tensor g = t.grad(out);
+      int64_t offset = 0;
+      for (const Var& input : inputs) {
+        const int64_t channels = input->value.size(1);
+        if (input->requiresGrad) {
+          Tensor gi(t.context(), input->value.shape());
+          ops::sliceChannels(t.stream(), g, offset, offset + channels, gi);
+          t.accumulate(input, gi);
+        }
+        offset += channels;
+      }
+    });
+  }
+  return out;
+}
+
+Var sliceChannels(Tape& tape, const Var& x, int64_t begin, int64_t end) {
+  Shape shape = x->value.shape();
+  if (shape.size() >= 2) shape[1] = std::max<int64_t>(end - begin, 0);
+  Tensor y(tape.context(), shape);
+  ops::sliceChannels(tape.stream(), x->value, begin, end, y);
+  Var out = tape.output(y, {x});
+  if (out->requiresGrad) {
+    tape.record({out}, [x, out, begin](Tape& t) {
+      Tensor gx(t.context(), x->value.shape());
+      t.stream().fillZero(gx);
+      const Tensor g = t.grad(out);
+      ops::copyChannels(t.stream(), g, 0, gx, begin, g.size(1));
+      t.accumulate(x, gx);
+    });
+  }
+  return out;
+}
+
+namespace {
+
+const bool registered =
+    registerOp({"concat_channels", "y = cat(a, b, ...) along axis 1", {"a", "b"}, {"c", "d", "e", "f"}, {}, {"y"},
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) {
+                  std::vector<Var> present;
+                  std::copy_if(in.begin(), in.end(), std::back_inserter(present), [](const Var& v) { return v != nullptr; });
+                  return std::vector<Var>{concatChannels(t, present)};
+                }}) &&
+    registerOp({"slice_channels", "y = x[:, begin:end]", {"x"}, {},
+                {{"begin", "", "first channel"}, {"end", "", "one past the last channel"}}, {"y"},
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
+                  return std::vector<Var>{sliceChannels(t, in[0], attrs.integer("begin"), attrs.integer("end"))};
+                }});
+
+}  // namespace
+}  // namespace smokesvd::fn

@@ -1,0 +1,106 @@
+#include "nets/functional/conv.h"
+
+#include <string>
+
+#include "nets/op_registry.h"
+#include "runtime/error.h"
+
+namespace smokesvd::fn {
+namespace {
+
+void requireRank(const char* op, const Var& x, int rank) {
+  if (x->value.rank() != rank)
+    throw Error(std::string(op) + ": input " + toString(x->value.shape()) + " must be " + std::to_string(rank) + "D");
+}
+
+// y = conv(x, w) + b, or the transposed convolution; the backward of each is made of the other's kernels.
+Var convolution(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params,
+                bool transposed) {
+  const Shape yShape = transposed ? ops::convTransposeOutputShape(x->value.shape(), w->value.shape(), params)
+                                  : ops::convOutputShape(x->value.shape(), w->value.shape(), params);
+  Tensor y(tape.context(), yShape);
+  const Tensor* b = bias ? &bias->value : nullptr;
+  if (transposed)
+    ops::convTransposeForward(tape.stream(), x->value, w->value, b, params, y);
+  else
+    ops::convForward(tape.stream(), x->value, w->value, b, params, y);
+  Var out = tape.output(y, {x, w, bias});
+  if (!out->requiresGrad) return out;
+  tape.record({out}, [x, w, bias, out, params, transposed](Tape& t) {
+    const Tensor g = t.grad(out);
+    if (x->requiresGrad) {
+      Tensor dx(t.context(), x->value.shape());
+      if (transposed)
+        ops::convTransposeBackwardInput(t.stream(), g, w->value, params, dx);
+      else
+        ops::convBackwardInput(t.stream(), g, w->value, params, dx);
+      t.accumulate(x, dx);
+    }
+    if (w->requiresGrad) {
+      Tensor dw(t.context(), w->value.shape());
+      if (transposed)
+        ops::convTransposeBackwardWeight(t.stream(), x->value, g, params, dw);
+      else
+        ops::convBackwardWeight(t.stream(), x->value, g, params, dw);
+      t.accumulate(w, dw);
+    }
+    if (bias && bias->requiresGrad) {
+      Tensor db(t.context(), bias->value.shape());
+      ops::convBackwardBias(t.stream(), g, db);
+      t.accumulate(bias, db);
+    }
+  });
+  return out;
+}
+
+}  // namespace
+
+Var conv2d(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params) {
+  requireRank("conv2d", x, 4);
+  return convolution(tape, x, w, bias, params, false);
+}
+
+Var conv3d(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params) {
+  requireRank("conv3d", x, 5);
+  return convolution(tape, x, w, bias, params, false);
+}
+
+Var convTranspose2d(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params) {
+  requireRank("convTranspose2d", x, 4);
+  return convolution(tape, x, w, bias, params, true);
+}
+
+Var convTranspose3d(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params) {
+  requireRank("convTranspose3d", x, 5);
+  return convolution(tape, x, w, bias, params, true);
+}
+
+namespace {
+
+using ConvFunction = Var (*)(Tape&, const Var&, const Var&, const Var&, const ops::ConvParams&);
+
+OpSpec convSpec(std::string name, std::string summary, ConvFunction function, bool transposed) {
+  std::vector<AttrSpec> attrs{{"stride", "1", "the same along every axis"},
+                              {"padding", "0", "zero padding, the same along every axis"}};
+  if (transposed) attrs.push_back({"output_padding", "0", "extra output rows at the high end, below the stride"});
+  return {std::move(name), std::move(summary), {"x", "w"}, {"b"}, std::move(attrs), {"y"},
+          [function, transposed](Tape& t, const std::vector<Var>& in, const OpAttrs& a) {
+            ops::ConvParams params;
+            params.stride = static_cast<int>(a.integer("stride"));
+            params.padding = static_cast<int>(a.integer("padding"));
+            if (transposed) params.outputPadding = static_cast<int>(a.integer("output_padding"));
+            return std::vector<Var>{function(t, in[0], in[1], in[2], params)};
+          }};
+}
+
+const bool registered =
+    registerOp(convSpec("conv2d", "y = conv2d(x, w) + b; x [N,C,H,W], w [K,C,kH,kW], b [K]", conv2d, false)) &&
+    registerOp(convSpec("conv3d", "y = conv3d(x, w) + b; x [N,C,D,H,W], w [K,C,kD,kH,kW], b [K]", conv3d, false)) &&
+    registerOp(convSpec("conv_transpose2d", "y = conv_transpose2d(x, w) + b; x [N,C,H,W], w [C,K,kH,kW], b [K]",
+                        convTranspose2d, true)) &&
+    registerOp(convSpec("conv_transpose3d",
+                        "y = conv_transpose3d(x, w) + b; x [N,C,D,H,W], w [C,K,kD,kH,kW], b [K]", convTranspose3d,
+                        true));
+
+}  // namespace
+}  // namespace smokesvd::fn

@@ -1,0 +1,53 @@
+#include "nets/functional/group_norm.h"
+
+#include "nets/op_registry.h"
+#include "nets/ops/elementwise.h"
+#include "nets/ops/group_norm.h"
+
+namespace smokesvd::fn {
+namespace {
+
+// The given parameter, or a constant [C] tensor filled with `value` when it is absent.
+Var parameterOr(Tape& tape, const Var& parameter, int64_t channels, float value) {
+  if (parameter) return parameter;
+  Tensor constant(tape.context(), {channels});
+  ops::fill(tape.stream(), constant, value);
+  return variable(constant);
+}
+
+}  // namespace
+
+Var groupNorm(Tape& tape, const Var& x, const Var& gammaOrNull, const Var& betaOrNull, int groups, float eps) {
+  const ops::GroupNormShape s = ops::groupNormShape(x->value.shape(), groups);
+  const Var gamma = parameterOr(tape, gammaOrNull, s.channels, 1.0f);
+  const Var beta = parameterOr(tape, betaOrNull, s.channels, 0.0f);
+  Tensor y(tape.context(), x->value.shape());
+  Tensor stats(tape.context(), {s.batch * groups, 2});
+  ops::groupNormForward(tape.stream(), x->value, gamma->value, beta->value, groups, eps, y, stats);
+  Var out = tape.output(y, {x, gamma, beta});
+  if (out->requiresGrad) {
+    tape.record({out}, [x, gamma, beta, out, stats, groups](Tape& t) {
+      Tensor gx(t.context(), x->value.shape());
+      Tensor ggamma(t.context(), gamma->value.shape());
+      Tensor gbeta(t.context(), beta->value.shape());
+      ops::groupNormBackward(t.stream(), x->value, gamma->value, stats, groups, t.grad(out), gx, ggamma, gbeta);
+      t.accumulate(x, gx);
+      t.accumulate(gamma, ggamma);
+      t.accumulate(beta, gbeta);
+    });
+  }
+  return out;
+}
+
+namespace {
+
+const bool registered = registerOp(
+    {"group_norm", "F.group_norm(x, groups, gamma, beta, eps); gamma = 1, beta = 0 when absent", {"x"},
+     {"gamma", "beta"}, {{"groups", "", "number of groups, divides C"}, {"eps", "1e-5", "added to the variance"}},
+     {"y"}, [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
+       return std::vector<Var>{groupNorm(t, in[0], in[1], in[2], static_cast<int>(attrs.integer("groups")),
+                                         static_cast<float>(attrs.number("eps")))};
+     }});
+
+}  // namespace
+}  // namespace smokesvd::fn

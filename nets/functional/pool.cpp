@@ -1,0 +1,39 @@
+#include "nets/functional/pool.h"
+
+#include "nets/op_registry.h"
+#include "nets/ops/pool.h"
+
+namespace smokesvd::fn {
+namespace {
+
+Var pool(Tape& tape, const Var& x, ops::PoolKind kind) {
+  Tensor y(tape.context(), ops::pooledShape(x->value.shape()));
+  ops::poolForward(tape.stream(), kind, x->value, y);
+  Var out = tape.output(y, {x});
+  if (out->requiresGrad) {
+    tape.record({out}, [x, out, kind](Tape& t) {
+      Tensor gx(t.context(), x->value.shape());
+      ops::poolBackward(t.stream(), kind, x->value, t.grad(out), gx);
+      t.accumulate(x, gx);
+    });
+  }
+  return out;
+}
+
+}  // namespace
+
+Var maxPool(Tape& tape, const Var& x) { return pool(tape, x, ops::PoolKind::Max); }
+Var avgPool(Tape& tape, const Var& x) { return pool(tape, x, ops::PoolKind::Average); }
+
+namespace {
+
+std::vector<Var> applyMax(Tape& t, const std::vector<Var>& in, const OpAttrs&) { return {maxPool(t, in[0])}; }
+std::vector<Var> applyAverage(Tape& t, const std::vector<Var>& in, const OpAttrs&) { return {avgPool(t, in[0])}; }
+
+const bool registered =
+    registerOp({"max_pool", "2D/3D max pooling, kernel 2, stride 2, ceil mode", {"x"}, {}, {}, {"y"}, applyMax}) &&
+    registerOp({"avg_pool", "2D/3D average pooling, kernel 2, stride 2, ceil mode", {"x"}, {}, {}, {"y"},
+                applyAverage});
+
+}  // namespace
+}  // namespace smokesvd::fn

@@ -1,0 +1,29 @@
+#include "nets/modules/conv.h"
+
+#include "nets/functional/conv.h"
+#include "runtime/error.h"
+
+namespace smokesvd::modules {
+
+Conv::Conv(Context& context, int dims, int64_t inChannels, int64_t outChannels, int kernel, ConvOptions options)
+    : dims_(dims) {
+  if (dims != 2 && dims != 3) throw Error("Conv: dims must be 2 or 3, got " + std::to_string(dims));
+  if (kernel <= 0 || inChannels <= 0 || outChannels <= 0)
+    throw Error("Conv: channels and kernel size must be positive");
+  params_.stride = options.stride;
+  params_.padding = options.padding;
+  Shape shape{outChannels, inChannels};
+  int64_t fanIn = inChannels;
+  for (int axis = 0; axis < dims; ++axis) {
+    shape.push_back(kernel);
+    fanIn *= kernel;
+  }
+  weight_ = addParameter(context, "weight", shape, Init::weight(options.init, fanIn));
+  if (options.bias) bias_ = addParameter(context, "bias", {outChannels}, Init::bias(options.init, fanIn));
+}
+
+Var Conv::forward(Tape& tape, const Var& x) {
+  return dims_ == 2 ? fn::conv2d(tape, x, weight_, bias_, params_) : fn::conv3d(tape, x, weight_, bias_, params_);
+}
+
+}  // namespace smokesvd::modules

@@ -1,0 +1,32 @@
+// torch.nn.Conv2d / Conv3d (square kernels, the same stride and zero padding on every axis):
+// parameters "weight" [out, in, k, k] or [out, in, k, k, k] and "bias" [out].
+#pragma once
+
+#include "nets/modules/module.h"
+#include "nets/ops/conv.h"
+
+namespace smokesvd::modules {
+
+struct ConvOptions {
+  int stride = 1;
+  int padding = 0;
+  bool bias = true;
+  WeightInit init = WeightInit::He;
+};
+
+class Conv : public UnaryModule {
+ public:
+  // dims: 2 (N,C,H,W) or 3 (N,C,D,H,W).
+  Conv(Context& context, int dims, int64_t inChannels, int64_t outChannels, int kernel, ConvOptions options = {});
+  Var forward(Tape& tape, const Var& x) override;
+  const Var& weight() const { return weight_; }
+  const Var& bias() const { return bias_; }  // nullptr without bias
+
+ private:
+  int dims_;
+  ops::ConvParams params_;
+  Var weight_;
+  Var bias_;
+};
+
+}  // namespace smokesvd::modules

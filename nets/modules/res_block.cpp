@@ -1,0 +1,35 @@
+#include "nets/modules/res_block.h"
+
+#include "nets/functional/activation.h"
+#include "nets/functional/broadcast.h"
+#include "nets/functional/elementwise.h"
+#include "runtime/error.h"
+
+namespace smokesvd::modules {
+
+ResBlock::ResBlock(Context& context, ResBlockOptions o) {
+  const int64_t out = o.outChannels > 0 ? o.outChannels : o.inChannels;
+  if (o.inChannels <= 0) throw Error("ResBlock: inChannels must be positive");
+  const ConvOptions conv3{1, 1, true, o.init};
+  norm1_ = addChild("norm1", std::make_shared<GroupNorm>(context, o.groups, o.inChannels, o.eps));
+  conv1_ = addChild("conv1", std::make_shared<Conv>(context, o.dims, o.inChannels, out, 3, conv3));
+  if (o.tembChannels > 0)
+    tembProj_ = addChild("temb_proj", std::make_shared<Linear>(context, o.tembChannels, out, true, o.init));
+  norm2_ = addChild("norm2", std::make_shared<GroupNorm>(context, o.groups, out, o.eps));
+  dropout_ = addChild("dropout", std::make_shared<Dropout>(o.dropout, o.dropoutSeed));
+  conv2_ = addChild("conv2", std::make_shared<Conv>(context, o.dims, out, out, 3, conv3));
+  if (out != o.inChannels)
+    shortcut_ = addChild("nin_shortcut",
+                         std::make_shared<Conv>(context, o.dims, o.inChannels, out, 1, ConvOptions{1, 0, true, o.init}));
+}
+
+Var ResBlock::forward(Tape& tape, const Var& x, const Var& temb) {
+  if (tembProj_ && !temb) throw Error("ResBlock: built with a timestep embedding, called without one");
+  if (!tembProj_ && temb) throw Error("ResBlock: called with a timestep embedding it was not built for");
+  Var h = conv1_->forward(tape, fn::silu(tape, norm1_->forward(tape, x)));
+  if (tembProj_) h = fn::addChannel(tape, h, tembProj_->forward(tape, fn::silu(tape, temb)));
+  h = conv2_->forward(tape, dropout_->forward(tape, fn::silu(tape, norm2_->forward(tape, h))));
+  return fn::add(tape, shortcut_ ? shortcut_->forward(tape, x) : x, h);
+}
+
+}  // namespace smokesvd::modules

@@ -1,0 +1,81 @@
+#include "nets/op_registry.h"
+
+#include <algorithm>
+#include <charconv>
+
+#include "runtime/error.h"
+
+namespace smokesvd {
+namespace {
+
+std::vector<OpSpec>& registry() {
+  static std::vector<OpSpec> all;
+  return all;
+}
+
+template <typename T>
+T parse(const std::string& text, const std::string& op, const std::string& name, const char* expected) {
+  T value{};
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size())
+    throw Error("op " + op + ": attribute " + name + "='" + text + "' is not " + expected);
+  return value;
+}
+
+}  // namespace
+
+const std::string& OpAttrs::raw(const std::string& name) const {
+  auto found = values_.find(name);
+  if (found == values_.end()) throw Error("op " + op_ + " has no attribute '" + name + "'");
+  return found->second;
+}
+
+double OpAttrs::number(const std::string& name) const { return parse<double>(raw(name), op_, name, "a number"); }
+
+int64_t OpAttrs::integer(const std::string& name) const { return parse<int64_t>(raw(name), op_, name, "an integer"); }
+
+std::vector<int64_t> OpAttrs::integers(const std::string& name) const {
+  std::vector<int64_t> values;
+  const std::string& text = raw(name);
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    values.push_back(parse<int64_t>(text.substr(start, comma - start), op_, name, "a comma-separated integer list"));
+    start = comma + 1;
+  }
+  return values;
+}
+
+std::string OpAttrs::text(const std::string& name) const { return raw(name); }
+
+bool registerOp(OpSpec spec) {
+  registry().push_back(std::move(spec));
+  return true;
+}
+
+const std::vector<OpSpec>& registeredOps() {
+  std::sort(registry().begin(), registry().end(), [](const OpSpec& a, const OpSpec& b) { return a.name < b.name; });
+  return registry();
+}
+
+const OpSpec& findOp(const std::string& name) {
+  for (const OpSpec& spec : registeredOps())
+    if (spec.name == name) return spec;
+  throw Error("unknown op '" + name + "' (smokesvd op --list shows them all)");
+}
+
+OpAttrs resolveAttrs(const OpSpec& spec, const std::map<std::string, std::string>& given) {
+  std::map<std::string, std::string> values;
+  for (const AttrSpec& attr : spec.attrs) {
+    auto found = given.find(attr.name);
+    if (found != given.end()) values[attr.name] = found->second;
+    else if (!attr.defaultValue.empty()) values[attr.name] = attr.defaultValue;
+    else throw Error("op " + spec.name + ": attribute '" + attr.name + "' is required (" + attr.help + ")");
+  }
+  for (const auto& [name, value] : given) {
+    if (!values.count(name)) throw Error("op " + spec.name + " has no attribute '" + name + "'");
+  }
+  return OpAttrs(spec.name, std::move(values));
+}
+
+}  // namespace smokesvd

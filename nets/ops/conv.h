@@ -1,0 +1,54 @@
+// Convolution kernels on float32 NCHW / NCDHW tensors (batch >= 1), in PyTorch's conventions:
+//   conv weight [Cout, Cin, kD, kH, kW] (2D: [Cout, Cin, kH, kW]), bias [Cout];
+//   transposed-conv weight [Cin, Cout, kD, kH, kW];
+//   conv output size floor((in + 2p - k) / s) + 1, transposed (in - 1) s - 2p + k + outputPadding.
+// A 2D tensor is run as 3D with depth 1 (one code path). Each function records its dispatches into
+// the stream and writes a caller-provided output of the exact expected shape (Error otherwise).
+// See docs/convolution.md for the kernels and their blocking.
+#pragma once
+
+#include "runtime/stream.h"
+#include "runtime/tensor.h"
+
+namespace smokesvd::ops {
+
+// Stride and zero padding, the same along every spatial axis.
+struct ConvParams {
+  int stride = 1;
+  int padding = 0;
+  int outputPadding = 0;  // transposed convolution only: extra output rows at the high end, < stride
+};
+
+// Register blocking of the kernels; 0 lets the host choose from the shapes. Every choice gives the same
+// result up to float rounding order; it only changes speed.
+struct ConvBlocking {
+  int pixels = 0;        // consecutive outputs along x per invocation, 1..16
+  int channelVec4s = 0;  // output channels per invocation, in groups of 4, 1..4
+};
+
+Shape convOutputShape(const Shape& x, const Shape& w, const ConvParams& params);
+Shape convTransposeOutputShape(const Shape& x, const Shape& w, const ConvParams& params);
+
+// y = conv(x, w) + b
+void convForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias, const ConvParams& params,
+                 const Tensor& y, ConvBlocking blocking = {});
+// dx = d<dy, conv(x, w)>/dx: a transposed convolution of dy (dx's shape says the input size).
+void convBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const ConvParams& params,
+                       const Tensor& dx, ConvBlocking blocking = {});
+// dw = d<dy, conv(x, w)>/dw
+void convBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const ConvParams& params,
+                        const Tensor& dw, ConvBlocking blocking = {});
+// db[k] = sum of dy over the batch and every position of channel k (conv and transposed conv alike).
+void convBackwardBias(Stream& stream, const Tensor& dy, const Tensor& db);
+
+// y = convTranspose(x, w) + b, the adjoint of conv with the same weight (weight [Cin, Cout, k...]).
+void convTransposeForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias,
+                          const ConvParams& params, const Tensor& y, ConvBlocking blocking = {});
+// dx = conv(dy, w), the forward convolution.
+void convTransposeBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const ConvParams& params,
+                                const Tensor& dx, ConvBlocking blocking = {});
+// dw: the conv weight gradient with the roles of input and output gradient exchanged.
+void convTransposeBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const ConvParams& params,
+                                 const Tensor& dw, ConvBlocking blocking = {});
+
+}  // namespace smokesvd::ops

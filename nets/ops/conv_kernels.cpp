@@ -1,0 +1,198 @@
+#include "nets/ops/conv_kernels.h"
+
+#include <algorithm>
+#include <bit>
+#include <string>
+
+#include "runtime/error.h"
+
+namespace smokesvd::ops::conv {
+namespace {
+
+constexpr std::array<uint32_t, 3> kFlatWorkgroup{64, 1, 1};
+// Layout kernels keep index divisions out of the lanes: workgroup y and z number rows and planes
+// (values shared by the workgroup), lanes run along a row, and an invocation writes a run of vec4s.
+constexpr std::array<uint32_t, 3> kGridWorkgroup{8, 1, 1};
+constexpr std::array<uint32_t, 3> kRowWorkgroup{16, 1, 1};
+constexpr uint32_t kDirectWorkgroup = 32;      // lanes along flattened output rows
+constexpr uint32_t kWeightGradWorkgroup = 16;  // lanes along (input channel, kz)
+// The weight gradient splits its reduction over output rows into chunks until about this many
+// invocations run; the bias gradient sums chunks of this many positions per invocation.
+constexpr int64_t kWeightGradInvocations = 2048;
+constexpr int64_t kBiasChunk = 2048;
+
+int32_t i32(int64_t value) { return static_cast<int32_t>(value); }
+
+uint32_t groupsFor(int64_t items, uint32_t workgroup) {
+  return static_cast<uint32_t>((items + workgroup - 1) / workgroup);
+}
+
+// out[i] = sum_j partial[j*n + i]
+void sumPartials(Stream& stream, const Tensor& partial, int64_t parts, const Tensor& out) {
+  struct { int32_t n, parts; } push{i32(out.numel()), i32(parts)};
+  stream.dispatchFlat(stream.kernel("nn/conv_sum_partials", kFlatWorkgroup), {partial, out}, push,
+                      static_cast<uint64_t>(out.numel()));
+}
+
+void requireBlocking(const ConvBlocking& requested) {
+  if (requested.pixels < 0 || requested.pixels > 16)
+    throw Error("conv: blocking of " + std::to_string(requested.pixels) + " pixels, expected 1..16 (0: automatic)");
+  if (requested.channelVec4s < 0 || requested.channelVec4s > 4)
+    throw Error("conv: blocking of " + std::to_string(requested.channelVec4s) +
+                " channel vec4s, expected 1..4 (0: automatic)");
+}
+
+// No more pixels per invocation than the row has (rounded up to a power of two).
+int fitPixels(int pixels, int64_t width) {
+  const uint64_t widest = std::bit_ceil(static_cast<uint64_t>(width));
+  return static_cast<int>(std::min<uint64_t>(static_cast<uint64_t>(pixels), widest));
+}
+
+}  // namespace
+
+int64_t roundUp(int64_t value, int64_t multiple) { return (value + multiple - 1) / multiple * multiple; }
+
+ConvBlocking directBlocking(ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth) {
+  requireBlocking(requested);
+  // Measured on lavapipe (docs/convolution.md): 8 pixels x 4 channels for 2D kernels, 16 x 4 for 3D.
+  const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(kernelDepth > 1 ? 16 : 8, gridWidth);
+  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : 1};
+}
+
+ConvBlocking weightGradBlocking(ConvBlocking requested, int64_t outWidth, int64_t outChannels) {
+  requireBlocking(requested);
+  // Measured on lavapipe: 4 pixels x 8 channels (72 accumulators for a 3x3 kernel).
+  const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(4, outWidth);
+  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : (outChannels <= 4 ? 1 : 2)};
+}
+
+Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size) {
+  const Shape& s = x5.shape();
+  Padded xp;
+  xp.size = {size[0], size[1], roundUp(size[2], 4)};
+  xp.batch = s[0];
+  xp.channels = s[1];
+  // Four floats of slack: a kernel may read a whole vec4 from the last element on.
+  xp.tensor = Tensor(stream.context(), {s[0] * s[1] * xp.size[0] * xp.size[1] * xp.size[2] + 4});
+  struct {
+    int32_t depth, height, width, paddedDepth, paddedHeight, paddedRowVec4s, lowZ, lowY, lowX;
+  } push{i32(s[2]),          i32(s[3]),          i32(s[4]),           i32(xp.size[0]), i32(xp.size[1]),
+         i32(xp.size[2] / 4), i32(low[0]), i32(low[1]), i32(low[2])};
+  stream.dispatch(stream.kernel("nn/conv_pad", kRowWorkgroup), {x5, xp.tensor}, push,
+                  {groupsFor(xp.size[1], kRowWorkgroup[0]), static_cast<uint32_t>(s[0] * s[1] * xp.size[0]), 1});
+  return xp;
+}
+
+Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int64_t paddedK) {
+  const int64_t tapCount = p.taps[0] * p.taps[1] * p.taps[2];
+  const int64_t vec4s = p.inChannels * tapCount * paddedK / 4;
+  Tensor packed(stream.context(), {std::max<int64_t>(vec4s, 1) * 4});
+  struct {
+    int32_t taps[4], first[4], step[4], strides[4];
+  } push{{i32(p.taps[0]), i32(p.taps[1]), i32(p.taps[2]), 0},
+         {i32(p.firstTap[0]), i32(p.firstTap[1]), i32(p.firstTap[2]), i32(p.outChannels)},
+         {i32(p.tapStep[0]), i32(p.tapStep[1]), i32(p.tapStep[2]), i32(paddedK / 4)},
+         {i32(p.strideK), i32(p.strideC), i32(p.sourceKernel[1] * p.sourceKernel[2]), i32(p.sourceKernel[2])}};
+  if (vec4s > 0)
+    stream.dispatch(stream.kernel("nn/conv_pack_weights", kGridWorkgroup), {w, packed}, push,
+                    {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(tapCount),
+                     static_cast<uint32_t>(p.inChannels)});
+  return packed;
+}
+
+void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const Tensor* bias, const Tensor& y5,
+            const DirectPass& pass, int pixels, int channelVec4s) {
+  const Shape& out = y5.shape();
+  const int64_t xBlocks = (pass.grid[2] + pixels - 1) / pixels;
+  const int64_t items = xBlocks * pass.grid[1] * pass.grid[0];
+  const int64_t channelBlock = 4 * channelVec4s;
+  const int64_t kBlocks = (out[1] + channelBlock - 1) / channelBlock;
+  const int64_t inSlice = xp.size[1] * xp.size[2];
+  const int64_t outSlice = out[3] * out[4];
+  // Every row an invocation reads starts on a vec4 when the first does and blocks advance by whole vec4s.
+  const bool alignedRows = pass.inStart[2] % 4 == 0 && (pixels * pass.stride) % 4 == 0;
+  struct {
+    int32_t channels, inPlane, inSlice, inRow, inBase, gridD, gridH, gridW, xBlocks, outChannels, weightRow, outPlane,
+        outStepZ, outStepY, outStepX, outBase;
+  } push{i32(xp.channels),
+         i32(xp.size[0] * inSlice),
+         i32(inSlice),
+         i32(xp.size[2]),
+         i32(pass.inStart[0] * inSlice + pass.inStart[1] * xp.size[2] + pass.inStart[2]),
+         i32(pass.grid[0]),
+         i32(pass.grid[1]),
+         i32(pass.grid[2]),
+         i32(xBlocks),
+         i32(out[1]),
+         i32(kBlocks * channelVec4s),
+         i32(out[2] * outSlice),
+         i32(pass.outStep[0] * outSlice),
+         i32(pass.outStep[1] * out[4]),
+         i32(pass.outStep[2]),
+         i32(pass.outStart[0] * outSlice + pass.outStart[1] * out[4] + pass.outStart[2])};
+  const Kernel& kernel =
+      stream.kernel("nn/conv_direct", {kDirectWorkgroup, 1, 1},
+                    {i32(pass.taps[0]), i32(pass.taps[1]), i32(pass.taps[2]), pass.stride, pixels, channelVec4s,
+                     bias != nullptr ? 1 : 0, alignedRows ? 1 : 0});
+  const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(packedWeights);
+  stream.dispatch(kernel, {xp.tensor, asVec4(xp.tensor), asVec4(packedWeights), biasArg, y5}, push,
+                  {groupsFor(items, kDirectWorkgroup), static_cast<uint32_t>(kBlocks), static_cast<uint32_t>(out[0])});
+}
+
+Tensor packGrad(Stream& stream, const Tensor& g5, int64_t paddedWidth, int64_t paddedK) {
+  const Shape& s = g5.shape();
+  const int64_t rows = s[0] * s[2] * s[3];
+  Tensor packed(stream.context(), {rows * paddedWidth * paddedK});
+  struct {
+    int32_t channels, rowsPerItem, width, paddedWidth, channelVec4s;
+  } push{i32(s[1]), i32(s[2] * s[3]), i32(s[4]), i32(paddedWidth), i32(paddedK / 4)};
+  stream.dispatch(stream.kernel("nn/conv_pack_grad", kRowWorkgroup), {g5, packed}, push,
+                  {groupsFor(paddedWidth, kRowWorkgroup[0]), static_cast<uint32_t>(rows), 1});
+  return packed;
+}
+
+void weightGrad(Stream& stream, const ConvGeometry& g, const Padded& xp, const Tensor& gradRows, const Tensor& dw,
+                int pixels, int channelVec4s) {
+  const int64_t channelBlock = 4 * channelVec4s;
+  const int64_t kBlocks = (g.outChannels + channelBlock - 1) / channelBlock;
+  const int64_t xBlocks = (g.output[2] + pixels - 1) / pixels;
+  const int64_t rows = g.batch * g.output[0] * g.output[1];
+  const int64_t lanes = g.inChannels * g.kernel[0];
+  const int64_t baseInvocations = roundUp(lanes, kWeightGradWorkgroup) * kBlocks;
+  const int64_t wantedChunks = std::clamp<int64_t>(kWeightGradInvocations / baseInvocations, 1, rows);
+  const int64_t rowsPerChunk = (rows + wantedChunks - 1) / wantedChunks;
+  const int64_t chunks = (rows + rowsPerChunk - 1) / rowsPerChunk;
+  const Tensor partial = chunks == 1 ? dw : Tensor(stream.context(), {chunks * dw.numel()});
+
+  const int64_t inSlice = xp.size[1] * xp.size[2];
+  struct {
+    int32_t channels, inPlane, inSlice, inRow, outHeight, rowsPerItem, rows, rowsPerChunk, xBlocks, gradRow,
+        outChannels;
+  } push{i32(g.inChannels), i32(xp.size[0] * inSlice), i32(inSlice), i32(xp.size[2]),
+         i32(g.output[1]),  i32(g.output[0] * g.output[1]), i32(rows), i32(rowsPerChunk),
+         i32(xBlocks),      i32(kBlocks * channelVec4s), i32(g.outChannels)};
+  const Kernel& kernel = stream.kernel(
+      "nn/conv_weight_grad", {kWeightGradWorkgroup, 1, 1},
+      {i32(g.kernel[0]), i32(g.kernel[1]), i32(g.kernel[2]), g.stride, pixels, channelVec4s,
+       (pixels * g.stride) % 4 == 0 ? 1 : 0});
+  stream.dispatch(kernel, {xp.tensor, asVec4(xp.tensor), asVec4(gradRows), partial}, push,
+                  {groupsFor(lanes, kWeightGradWorkgroup), static_cast<uint32_t>(kBlocks),
+                   static_cast<uint32_t>(chunks)});
+  if (chunks > 1) sumPartials(stream, partial, chunks, dw);
+}
+
+void biasGrad(Stream& stream, const Tensor& g, const Tensor& db) {
+  const int64_t channels = g.size(1);
+  const int64_t plane = g.numel() / (g.size(0) * channels);
+  const int64_t positions = g.size(0) * plane;
+  const int64_t chunks = (positions + kBiasChunk - 1) / kBiasChunk;
+  const Tensor partial = chunks == 1 ? db : Tensor(stream.context(), {chunks * channels});
+  struct {
+    int32_t channels, plane, positions, chunkSize, count;
+  } push{i32(channels), i32(plane), i32(positions), i32(kBiasChunk), i32(chunks * channels)};
+  stream.dispatchFlat(stream.kernel("nn/conv_bias_grad", kFlatWorkgroup), {g, partial}, push,
+                      static_cast<uint64_t>(push.count));
+  if (chunks > 1) sumPartials(stream, partial, chunks, db);
+}
+
+}  // namespace smokesvd::ops::conv

@@ -1,0 +1,66 @@
+// The convolution kernels one by one (shaders/nn/conv_*.comp): each function records one dispatch,
+// or two for a two-stage reduction. nets/ops/conv.cpp composes them into the public operations.
+#pragma once
+
+#include "nets/ops/conv_geometry.h"
+#include "runtime/stream.h"
+#include "runtime/tensor.h"
+
+namespace smokesvd::ops::conv {
+
+// Block sizes actually used: the request with every 0 replaced by the default for the shape. Throws
+// Error for a request out of range.
+ConvBlocking directBlocking(ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth);
+ConvBlocking weightGradBlocking(ConvBlocking requested, int64_t outWidth, int64_t outChannels);
+int64_t roundUp(int64_t value, int64_t multiple);
+
+// A zero-padded copy [N, C, size] of an [N, C, D, H, W] tensor placed at `low`; size[2] is rounded up to
+// a multiple of 4. Rows and columns of the source past `size` are left out. The tensor is flat, with four
+// floats of slack after the padded data.
+struct Padded {
+  Tensor tensor;
+  int64_t batch = 0;
+  int64_t channels = 0;
+  Int3 size{};
+};
+Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size);
+
+// Where packed weight [c, r, s, t, k] comes from in a weight tensor: k and c are source axes with element
+// strides strideK and strideC; the tap (r, s, t) reads source tap firstTap + (r, s, t) * tapStep of a
+// source kernel of extent sourceKernel.
+struct WeightPacking {
+  int64_t outChannels = 0;  // K of the packed layout
+  int64_t inChannels = 0;   // C of the packed layout
+  int64_t strideK = 0;
+  int64_t strideC = 0;
+  Int3 sourceKernel{};
+  Int3 taps{};
+  Int3 firstTap{};
+  Int3 tapStep{1, 1, 1};
+};
+// Packed weights [C, taps, paddedK] (zero for k >= K), at least one vec4.
+Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& packing, int64_t paddedK);
+
+// One dispatch of the direct convolution (shaders/nn/conv_direct.comp) into y [N, K, outSize].
+struct DirectPass {
+  Int3 taps{};             // all 0 for a phase that gathers no taps (it writes the bias only)
+  int stride = 1;
+  Int3 grid{};             // grid positions along z, y, x
+  Int3 inStart{};          // padded-input position read by grid position 0, tap 0
+  Int3 outStep{1, 1, 1};   // output positions between neighbouring grid positions
+  Int3 outStart{};         // output position of grid position 0
+};
+void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const Tensor* bias, const Tensor& y5,
+            const DirectPass& pass, int pixels, int channelVec4s);
+
+// Output gradient [N, K, D, H, W] as rows with channels last: [N*D*H, paddedWidth, paddedK], zero-filled.
+Tensor packGrad(Stream& stream, const Tensor& g5, int64_t paddedWidth, int64_t paddedK);
+
+// dw [K, C, k...] from the padded forward input and the packed output gradient (two-stage reduction).
+void weightGrad(Stream& stream, const ConvGeometry& g, const Padded& xp, const Tensor& gradRows, const Tensor& dw,
+                int pixels, int channelVec4s);
+
+// db [K] = sum of g [N, K, P] over n and p (two-stage reduction).
+void biasGrad(Stream& stream, const Tensor& g, const Tensor& db);
+
+}  // namespace smokesvd::ops::conv

@@ -1,0 +1,30 @@
+// GroupNorm over N,C,S... float32 tensors (any number of spatial axes, e.g. N,C,H,W or N,C,D,H,W), as
+// PyTorch's F.group_norm(x, groups, gamma, beta, eps): the channels split into `groups` consecutive
+// groups; each (sample, group) is normalised by its mean and biased variance, then scaled and shifted per
+// channel. Statistics are computed per chunk in two passes (the first shifted by the chunk's first
+// element) and chunks merged with Chan et al.'s update, so inputs with a large mean lose no precision.
+// Kernels: shaders/nn/group_norm_*.comp.
+#pragma once
+
+#include "runtime/stream.h"
+#include "runtime/tensor.h"
+
+namespace smokesvd::ops {
+
+struct GroupNormShape {
+  int64_t batch = 0, channels = 0, groups = 0, planeSize = 0;  // planeSize = product of the spatial sizes
+};
+
+// Checks that x is N,C,spatial... (rank >= 3, non-empty, N C <= 65535) and that groups divides C.
+GroupNormShape groupNormShape(const Shape& x, int64_t groups);
+
+// y = (x - mean) / sqrt(var + eps) * gamma[c] + beta[c], gamma and beta [C]; stats ([N * groups, 2]:
+// mean, 1 / sqrt(var + eps)) is written for the backward.
+void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& beta, int64_t groups,
+                      float eps, const Tensor& y, const Tensor& stats);
+
+// Gradients w.r.t. x, gamma and beta from gy, using the forward's stats.
+void groupNormBackward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& stats, int64_t groups,
+                       const Tensor& gy, const Tensor& gx, const Tensor& ggamma, const Tensor& gbeta);
+
+}  // namespace smokesvd::ops

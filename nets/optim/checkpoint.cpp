@@ -1,0 +1,85 @@
+#include "nets/optim/checkpoint.h"
+
+#include <sstream>
+
+#include "nets/io/safetensors.h"
+#include "runtime/error.h"
+
+namespace smokesvd::optim {
+namespace {
+
+const std::string kFormat = "smokesvd-checkpoint";
+const std::string kFormatVersion = "1";
+
+using NamedTensors = std::vector<std::pair<std::string, Tensor>>;
+
+std::string kindOf(const Adam& adam) { return adam.options().decoupledWeightDecay ? "adamw" : "adam"; }
+
+std::string number(double value) {
+  std::ostringstream text;
+  text.precision(17);
+  text << value;
+  return text.str();
+}
+
+NamedTensors everything(const NamedParameters& model, const Adam& adam, const Ema* ema) {
+  NamedTensors tensors;
+  for (const auto& [name, parameter] : model) tensors.emplace_back(name, parameter->value);
+  for (const auto& [name, tensor] : adam.namedState()) tensors.emplace_back("optimizer." + name, tensor);
+  if (ema)
+    for (const auto& [name, tensor] : ema->namedShadows()) tensors.emplace_back("ema." + name, tensor);
+  return tensors;
+}
+
+std::string required(const std::map<std::string, std::string>& metadata, const std::string& key,
+                     const std::string& source) {
+  const auto it = metadata.find(key);
+  if (it == metadata.end()) throw Error(source + ": checkpoint metadata has no '" + key + "'");
+  return it->second;
+}
+
+}  // namespace
+
+void saveCheckpoint(const std::filesystem::path& path, const NamedParameters& model, const Adam& adam, const Ema* ema,
+                    const std::map<std::string, std::string>& metadata) {
+  std::map<std::string, std::string> all = metadata;
+  const AdamOptions& options = adam.options();
+  all["format"] = kFormat;
+  all["format_version"] = kFormatVersion;
+  all["optimizer"] = kindOf(adam);
+  all["step"] = std::to_string(adam.steps());
+  all["lr"] = number(adam.lastLearningRate());
+  all["beta1"] = number(options.beta1);
+  all["beta2"] = number(options.beta2);
+  all["eps"] = number(options.eps);
+  all["weight_decay"] = number(options.weightDecay);
+  io::writeSafetensors(path, io::downloadNamed(everything(model, adam, ema)), all);
+}
+
+std::map<std::string, std::string> loadCheckpoint(const std::filesystem::path& path, const NamedParameters& model,
+                                                  Adam& adam, Ema* ema) {
+  const std::string source = path.string();
+  const io::SafetensorsFile file = io::readSafetensors(path);
+  if (file.metadata.count("format") == 0 || file.metadata.at("format") != kFormat)
+    throw Error(source + ": not a training checkpoint (metadata 'format' is not '" + kFormat + "')");
+  if (required(file.metadata, "format_version", source) != kFormatVersion)
+    throw Error(source + ": checkpoint format version " + file.metadata.at("format_version") + ", expected " +
+                kFormatVersion);
+  const std::string kind = required(file.metadata, "optimizer", source);
+  if (kind != kindOf(adam))
+    throw Error(source + ": the checkpoint holds " + kind + " state but the optimiser is " + kindOf(adam));
+  const std::string stepText = required(file.metadata, "step", source);
+  int64_t step = 0;
+  try {
+    std::size_t used = 0;
+    step = std::stoll(stepText, &used);
+    if (used != stepText.size() || step < 0 || step > Adam::kMaxSteps) throw std::invalid_argument(stepText);
+  } catch (const std::logic_error&) {
+    throw Error(source + ": checkpoint metadata 'step' is '" + stepText + "', not a step count in [0, 2^24]");
+  }
+  io::uploadNamed(file, everything(model, adam, ema), source);
+  adam.setSteps(step);
+  return file.metadata;
+}
+
+}  // namespace smokesvd::optim

@@ -1,0 +1,113 @@
+#version 450
+// Direct convolution over a zero-padded input with packed weights: the one kernel behind conv forward,
+// conv backward-input and transposed conv (nets/ops/conv.cpp, docs/convolution.md).
+//
+//   y[n, k, Z, Y, X] = bias[k] + sum_{c<C} sum_{r<KD, s<KH, t<KW}
+//                        wp[c, r, s, t, k] * xp[n, c, oz*STRIDE + r, oy*STRIDE + s, ox*STRIDE + t]
+//   (Z, Y, X) = (oz*outStepZ, oy*outStepY, ox*outStepX) + outBase,   (oz, oy, ox) < (gridD, gridH, gridW)
+//
+// n batch, c input channel, k output channel, (r, s, t) tap, (oz, oy, ox) grid position. xp is the
+// padded input [N, C, Dp, Hp, Wp] read from element inBase on; wp holds the taps as
+// [C, KD, KH, KW, Kpad] with Kpad a multiple of 4*CHANNEL_VEC4S, zero past K, read as vec4s.
+// A strided grid (outStep > 1) writes one phase of a transposed convolution.
+//
+// Blocking: one invocation computes PIXELS consecutive ox of one grid row for 4*CHANNEL_VEC4S output
+// channels. Per input channel and (r, s) it fetches the SPAN input values the row of taps touches (as
+// vec4s when the rows start on a vec4, ALIGNED_ROWS) and reuses each for up to KW taps and all its
+// channels; each weight vec4 serves PIXELS outputs. Every inner loop has a constant trip count and
+// indexes a local array of that length by its counter, so it is unrolled and the arrays become registers.
+// Lanes run along the flattened (x block, oy, oz); workgroup y is the channel block, z the batch item.
+// Positions ox >= gridW and channels k >= K are computed but not written.
+layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
+layout(constant_id = 3) const int KD = 1;
+layout(constant_id = 4) const int KH = 3;
+layout(constant_id = 5) const int KW = 3;
+layout(constant_id = 6) const int STRIDE = 1;
+layout(constant_id = 7) const int PIXELS = 8;
+layout(constant_id = 8) const int CHANNEL_VEC4S = 2;
+layout(constant_id = 9) const bool HAS_BIAS = false;
+layout(constant_id = 10) const bool ALIGNED_ROWS = false;
+
+const int SPAN = (PIXELS - 1) * STRIDE + KW;
+const int SPAN_VEC4S = (SPAN + 3) / 4;
+
+layout(binding = 0) uniform samplerBuffer xp;
+layout(binding = 1) uniform samplerBuffer xp4;
+layout(binding = 2) uniform samplerBuffer wp;
+layout(binding = 3) uniform samplerBuffer bias;
+layout(std430, binding = 4) writeonly buffer Output { float y[]; };
+layout(push_constant) uniform Push {
+  int channels;     // C
+  int inPlane;      // Dp*Hp*Wp
+  int inSlice;      // Hp*Wp
+  int inRow;        // Wp
+  int inBase;
+  int gridD;
+  int gridH;
+  int gridW;
+  int xBlocks;      // ceil(gridW / PIXELS)
+  int outChannels;  // K
+  int weightRow;    // Kpad / 4: vec4s per tap
+  int outPlane;     // elements of one output channel
+  int outStepZ;
+  int outStepY;
+  int outStepX;
+  int outBase;
+};
+
+void main() {
+  const int item = int(gl_GlobalInvocationID.x);
+  const int xBlock = item % xBlocks;
+  const int gridRow = item / xBlocks;
+  const int oy = gridRow % gridH;
+  const int oz = gridRow / gridH;
+  if (oz >= gridD) return;
+  const int kBlock = int(gl_WorkGroupID.y);
+  const int n = int(gl_WorkGroupID.z);
+  const int ox0 = xBlock * PIXELS;
+
+  vec4 acc[PIXELS][CHANNEL_VEC4S];
+  for (int q = 0; q < CHANNEL_VEC4S; ++q) {
+    const vec4 b = HAS_BIAS ? texelFetch(bias, kBlock * CHANNEL_VEC4S + q) : vec4(0.0);
+    for (int p = 0; p < PIXELS; ++p) acc[p][q] = b;
+  }
+
+  const int tapsPerChannel = KD * KH * KW * weightRow;
+  int source = inBase + n * channels * inPlane + oz * STRIDE * inSlice + oy * STRIDE * inRow + ox0 * STRIDE;
+  int w = kBlock * CHANNEL_VEC4S;
+  for (int c = 0; c < channels; ++c, source += inPlane, w += tapsPerChannel) {
+    for (int r = 0; r < KD; ++r) {
+      for (int s = 0; s < KH; ++s) {
+        const int rowStart = source + r * inSlice + s * inRow;
+        const int tapRow = w + (r * KH + s) * KW * weightRow;
+        vec4 v[SPAN_VEC4S];
+        for (int i = 0; i < SPAN_VEC4S; ++i) {
+          if (ALIGNED_ROWS) {
+            v[i] = texelFetch(xp4, rowStart / 4 + i);
+          } else {
+            const int at = rowStart + 4 * i;
+            v[i] = vec4(texelFetch(xp, at).x, texelFetch(xp, at + 1).x, texelFetch(xp, at + 2).x,
+                        texelFetch(xp, at + 3).x);
+          }
+        }
+        vec4 weight[KW][CHANNEL_VEC4S];
+        for (int t = 0; t < KW; ++t)
+          for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[t][q] = texelFetch(wp, tapRow + t * weightRow + q);
+        for (int p = 0; p < PIXELS; ++p)
+          for (int t = 0; t < KW; ++t)
+            for (int q = 0; q < CHANNEL_VEC4S; ++q) acc[p][q] += v[(p * STRIDE + t) / 4][(p * STRIDE + t) % 4] * weight[t][q];
+      }
+    }
+  }
+
+  const int outRow = n * outChannels * outPlane + outBase + oz * outStepZ + oy * outStepY;
+  for (int p = 0; p < PIXELS; ++p) {
+    const int ox = ox0 + p;
+    for (int q = 0; q < CHANNEL_VEC4S; ++q) {
+      for (int lane = 0; lane < 4; ++lane) {
+        const int k = (kBlock * CHANNEL_VEC4S + q) * 4 + lane;
+        if (ox < gridW && k < outChannels) y[outRow + k * outPlane + ox * outStepX] = acc[p][q][lane];
+      }
+    }
+  }
+}

@@ -1,0 +1,115 @@
+// The autograd wrappers of the physics ops and their `smokesvd op` registrations.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "nets/io/npy.h"
+#include "pipeline/functional/physics.h"
+#include "tests/harness/command.h"
+#include "tests/harness/compare.h"
+#include "tests/harness/gpu_test.h"
+#include "tests/harness/random.h"
+
+namespace smokesvd::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+const physics::GridSize kGrid{7, 6, 5};
+
+// Self-advection through the tape: the velocity's gradient is the sum of its two roles, and the
+// inflow's is the upstream gradient.
+TEST_F(GpuTest, AdvectOnTheTapeSumsBothRolesOfTheVelocity) {
+  Stream stream(context());
+  const physics::FlagGrid grid(stream, physics::closedBoxFlagsTensor(context(), kGrid));
+  Tensor velocityValues = randomTensor(context(), kGrid.vector(), 1, -0.8f, 0.8f);
+  Tensor inflowValues = randomTensor(context(), kGrid.vector(), 2);
+  Tensor upstream = randomTensor(context(), kGrid.vector(), 3);
+  const physics::AdvectionParams params{.scheme = physics::AdvectionScheme::MacCormack};
+
+  Tape tape(stream);
+  Var velocity = variable(velocityValues, true);
+  Var inflow = variable(inflowValues, true);
+  Var out = fn::advect(tape, grid, velocity, velocity, inflow, params);
+  tape.backward({{out, upstream}});
+
+  Tensor asField(context(), kGrid.vector()), asVelocity(context(), kGrid.vector());
+  physics::advectBackward(stream, grid, velocityValues, velocityValues, params, upstream, nullptr,
+                          {.field = &asField, .velocity = &asVelocity});
+  stream.submit();
+  const std::vector<float> field = asField.download(), role = asVelocity.download();
+  std::vector<float> expected(field.size());
+  for (std::size_t i = 0; i < field.size(); ++i) expected[i] = field[i] + role[i];
+  EXPECT_TRUE(allClose(velocity->grad, expected, {1e-6, 1e-6}));
+  EXPECT_TRUE(allClose(inflow->grad, upstream.download(), {0, 0}));
+}
+
+TEST_F(GpuTest, PaperVelocityLossOnTheTape) {
+  Stream stream(context());
+  Tape tape(stream);
+  Var velocity = variable(randomTensor(context(), kGrid.vector(), 4), true);
+  Var divergence = fn::divergence(tape, velocity, physics::Staggering::Centred);
+  Var gradientNorm = fn::gradientNormSquared(tape, velocity);
+  Tensor ones = Tensor::fromHost(context(), kGrid.volume(), std::vector<float>(kGrid.cells(), 1.0f));
+  tape.backward({{divergence, divergence->value}, {gradientNorm, ones}});  // ½‖div‖² + ‖∇u‖²
+  Tensor expectedDivergence(context(), kGrid.vector()), expectedNorm(context(), kGrid.vector());
+  physics::divergenceBackward(stream, physics::Staggering::Centred, divergence->value, expectedDivergence);
+  physics::gradientNormSquaredBackward(stream, velocity->value, ones, expectedNorm);
+  stream.submit();
+  const std::vector<float> a = expectedDivergence.download(), b = expectedNorm.download();
+  std::vector<float> expected(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) expected[i] = a[i] + b[i];
+  EXPECT_TRUE(allClose(velocity->grad, expected, {1e-5, 1e-5}));
+}
+
+class AdvectOpCommand : public GpuTest {
+ protected:
+  void SetUp() override {
+    GpuTest::SetUp();
+    dir_ = fs::temp_directory_path() / ("smokesvd-advect-op-" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    fs::remove_all(dir_);
+    GpuTest::TearDown();
+  }
+  std::string file(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+// mantaflow's advection test case through the op runner: MAC velocity from the file layout, then
+// MacCormack forward, and a backward whose gradients have the inputs' shapes.
+TEST_F(AdvectOpCommand, AdvectsMantaflowCaseForwardAndBackward) {
+  const auto arrays = io::readNpz(SMOKESVD_SOURCE_DIR "/../shared/testdata/mantaflow/advect_32x48x32.npz");
+  for (const char* key : {"density_in", "vel_mac", "flags"})
+    io::writeNpy(file(std::string(key) + ".npy"), arrays.at(key));
+  io::writeNpy(file("ones.npy"), io::NpyArray::fromFloats(arrays.at("density_in").shape,
+                                                          std::vector<float>(arrays.at("density_in").numel(), 1.0f)));
+
+  CommandResult planar =
+      runSmokesvd("op velocity_to_planar --in x=" + file("vel_mac.npy") + " --out y=" + file("velocity.npy"));
+  ASSERT_EQ(planar.exitCode, 0) << planar.err;
+  CommandResult forward =
+      runSmokesvd("op advect --in field=" + file("density_in.npy") + " --in velocity=" + file("velocity.npy") +
+                  " --in flags=" + file("flags.npy") + " --attr order=2 --out out=" + file("out.npy"));
+  ASSERT_EQ(forward.exitCode, 0) << forward.err;
+  EXPECT_TRUE(allClose(io::readNpy(file("out.npy")).floats, arrays.at("density_mc").floats,
+                       arrays.at("density_mc").shape, {1e-6, 1e-6}));
+
+  CommandResult backward =
+      runSmokesvd("op advect --in field=" + file("density_in.npy") + " --in velocity=" + file("velocity.npy") +
+                  " --attr order=1 --in grad_out=" + file("ones.npy") + " --out grad_field=" + file("grad_field.npy") +
+                  " --out grad_velocity=" + file("grad_velocity.npy"));
+  ASSERT_EQ(backward.exitCode, 0) << backward.err;
+  EXPECT_EQ(io::readNpy(file("grad_field.npy")).shape, arrays.at("density_in").shape);
+  EXPECT_EQ(io::readNpy(file("grad_velocity.npy")).shape, (Shape{3, 32, 48, 32}));
+
+  const CommandResult bad =
+      runSmokesvd("op advect --in field=" + file("density_in.npy") + " --in velocity=" + file("velocity.npy") +
+                  " --attr order=3 --out out=" + file("out.npy"));
+  EXPECT_NE(bad.exitCode, 0);
+  EXPECT_NE(bad.err.find("order=3"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace smokesvd::testing

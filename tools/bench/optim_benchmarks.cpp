@@ -1,0 +1,55 @@
+// Optimiser benchmarks: Adam over 10 M parameters (one tensor, and the same split into 100 tensors to
+// show the per-tensor dispatch cost), the global gradient norm of clipping, and the EMA update. Bytes
+// count everything read plus everything written: Adam reads p, g, m, v and writes p, m, v (28 bytes per
+// parameter); the norm reads g (4); the EMA reads shadow and p and writes shadow (12).
+#include "nets/ops/elementwise.h"
+#include "nets/optim/adam.h"
+#include "nets/optim/ema.h"
+#include "nets/optim/grad_clip.h"
+#include "tools/bench/bench.h"
+
+namespace smokesvd::bench {
+namespace {
+
+constexpr int64_t kParameters = 10'000'000;
+
+// `pieces` parameter tensors of kParameters / pieces elements each, with gradients filled in.
+NamedParameters parameters(Context& context, int64_t pieces) {
+  NamedParameters named;
+  Stream fill(context);
+  for (int64_t i = 0; i < pieces; ++i) {
+    Var p = variable(Tensor(context, {kParameters / pieces}), true);
+    p->grad = Tensor(context, {kParameters / pieces});
+    ops::fill(fill, p->value, 0.5f);
+    ops::fill(fill, p->grad, 1e-3f);
+    named.emplace_back("layer" + std::to_string(i) + ".weight", p);
+  }
+  fill.submit();
+  return named;
+}
+
+void adam(BenchContext& b) {
+  for (const int64_t pieces : {int64_t{1}, int64_t{100}}) {
+    const NamedParameters named = parameters(b.context(), pieces);
+    const std::string shape = pieces == 1 ? "[10000000]" : "100 x [100000]";
+    const optim::Adam adamOptimizer(b.context(), named, optim::AdamOptions{});
+    b.measure(pieces == 1 ? "optim/adam" : "optim/adam-100-tensors", shape, 28.0 * kParameters, 0,
+              [&](Stream& s) { adamOptimizer.step(s); });
+    if (pieces != 1) continue;
+    const optim::Adam adamW(b.context(), named, optim::AdamOptions::adamW(optim::LrSchedule::constant(1e-3)));
+    const optim::GradClip clip(b.context(), 1.0);
+    b.measure("optim/adamw-clipped", shape + ", norm + AdamW", 32.0 * kParameters, 0, [&](Stream& s) {
+      clip.record(s, named);
+      adamW.step(s, &clip);
+    });
+    b.measure("optim/grad-norm", shape, 4.0 * kParameters, 2.0 * kParameters,
+              [&](Stream& s) { clip.record(s, named); });
+    const optim::Ema ema(b.context(), named, 0.999);
+    b.measure("optim/ema", shape, 12.0 * kParameters, 3.0 * kParameters, [&](Stream& s) { ema.update(s); });
+  }
+}
+
+const bool registered = registerBenchmark({"optim", adam});
+
+}  // namespace
+}  // namespace smokesvd::bench
