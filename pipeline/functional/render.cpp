@@ -1,0 +1,150 @@
+#include "pipeline/functional/render.h"
+
+#include "nets/op_registry.h"
+#include "pipeline/camera/calibration.h"
+#include "pipeline/render/lift.h"
+#include "pipeline/render/number_list.h"
+#include "pipeline/render/rotate.h"
+#include "runtime/error.h"
+
+namespace smokesvd::fn {
+
+Var render(Tape& tape, const Var& density, const render::ViewSet& views, const render::RenderSettings& settings) {
+  const GridSize grid = render::volumeGrid(density->value, "render density");
+  Tensor images(tape.context(), {views.views, 1, views.height, views.width});
+  Tensor shadow;
+  if (settings.light) {
+    shadow = Tensor(tape.context(), {grid.depth, grid.height, grid.width});
+    render::lightTransmittance(tape.stream(), density->value, settings, shadow);
+  }
+  render::march(tape.stream(), density->value, settings.light ? &shadow : nullptr, views, settings, images);
+  Var out = tape.output(images, {density});
+  if (out->requiresGrad) {
+    tape.record({out}, [density, out, views, settings, shadow](Tape& t) {
+      Tensor gradDensity(t.context(), density->value.shape());
+      render::renderBackward(t.stream(), density->value, settings.light ? &shadow : nullptr, views, settings,
+                             out->value, t.grad(out), gradDensity);
+      t.accumulate(density, gradDensity);
+    });
+  }
+  return out;
+}
+
+Var lift(Tape& tape, const Var& images, const render::ViewSet& views, const GridSize& grid) {
+  Tensor lifted(tape.context(), {1, views.views, grid.depth, grid.height, grid.width});
+  render::lift(tape.stream(), images->value, views, grid, lifted);
+  Var out = tape.output(lifted, {images});
+  if (out->requiresGrad) {
+    tape.record({out}, [images, out, views, grid](Tape& t) {
+      Tensor gradImages(t.context(), images->value.shape());
+      render::liftBackward(t.stream(), t.grad(out), views, grid, gradImages);
+      t.accumulate(images, gradImages);
+    });
+  }
+  return out;
+}
+
+Var rotate(Tape& tape, const Var& volume, double angleDegrees) {
+  Tensor rotated(tape.context(), volume->value.shape());
+  render::rotate(tape.stream(), volume->value, angleDegrees, rotated);
+  Var out = tape.output(rotated, {volume});
+  if (out->requiresGrad) {
+    tape.record({out}, [volume, out, angleDegrees](Tape& t) {
+      Tensor gradVolume(t.context(), volume->value.shape());
+      render::rotateBackward(t.stream(), t.grad(out), angleDegrees, gradVolume);
+      t.accumulate(volume, gradVolume);
+    });
+  }
+  return out;
+}
+
+namespace {
+
+const std::vector<AttrSpec> kCameraAttrs{
+    {"angles", "0", "orbit angles in degrees, comma-separated (ignored with cameras)"},
+    {"cameras", "-", "NeRF-style calibration JSON: render through all its cameras instead of orbit ones"},
+    {"width", "0", "image width in pixels (0: the grid width, or the calibrated width)"},
+    {"height", "0", "orbit image height in pixels (0: the grid height)"}};
+
+std::vector<AttrSpec> renderAttrs() {
+  std::vector<AttrSpec> attrs = kCameraAttrs;
+  attrs.insert(attrs.end(), {{"step", "1", "march step, voxels"},
+                             {"absorption", "1", "extinction per unit density per voxel"},
+                             {"ambient", "1", "source radiance without the light"},
+                             {"light", "-", "direction toward a directional light x,y,z (grid axes), or - for none"},
+                             {"light_intensity", "1", "light intensity"},
+                             {"light_step", "1", "light march step, voxels"},
+                             {"light_absorption", "1", "extinction along the light path"}});
+  return attrs;
+}
+
+render::ViewSet viewsFromAttrs(Context& context, const OpAttrs& attrs, const GridSize& grid) {
+  const int width = static_cast<int>(attrs.integer("width"));
+  std::vector<Camera> cameras;
+  if (const std::string file = attrs.text("cameras"); file != "-") {
+    const Calibration calibration = readCalibration(file);
+    for (const CalibratedView& view : calibration.views)
+      cameras.push_back(calibratedCamera(view, calibration.box, grid, width));
+  } else {
+    const int height = static_cast<int>(attrs.integer("height"));
+    cameras = orbitCameras(render::parseNumberList(attrs.text("angles"), "attribute angles"), grid,
+                           width > 0 ? width : static_cast<int>(grid.width),
+                           height > 0 ? height : static_cast<int>(grid.height));
+  }
+  return render::uploadViews(context, cameras);
+}
+
+render::RenderSettings settingsFromAttrs(const OpAttrs& attrs) {
+  render::RenderSettings s;
+  s.step = static_cast<float>(attrs.number("step"));
+  s.absorption = static_cast<float>(attrs.number("absorption"));
+  s.ambient = static_cast<float>(attrs.number("ambient"));
+  if (const std::string light = attrs.text("light"); light != "-") {
+    const std::vector<double> d = render::parseNumberList(light, "attribute light");
+    if (d.size() != 3) throw Error("op render: attribute light must be three numbers x,y,z");
+    render::DirectionalLight l;
+    l.direction = {d[0], d[1], d[2]};
+    l.intensity = static_cast<float>(attrs.number("light_intensity"));
+    l.step = static_cast<float>(attrs.number("light_step"));
+    l.absorption = static_cast<float>(attrs.number("light_absorption"));
+    s.light = l;
+  }
+  render::validate(s);
+  return s;
+}
+
+GridSize gridAttr(const OpAttrs& attrs) {
+  const std::vector<int64_t> g = attrs.integers("grid");
+  if (g.size() != 3 || g[0] <= 0 || g[1] <= 0 || g[2] <= 0)
+    throw Error("op lift: attribute grid must be D,H,W (three positive integers)");
+  return {g[0], g[1], g[2]};
+}
+
+std::vector<AttrSpec> liftAttrs() {
+  std::vector<AttrSpec> attrs = kCameraAttrs;
+  attrs.push_back({"grid", "", "volume size D,H,W"});
+  return attrs;
+}
+
+const bool registered =
+    registerOp({"render", "emission-absorption rendering of density [D,H,W] to images [V,1,h,w]", {"density"}, {},
+                renderAttrs(), {"images"},
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
+                  const GridSize grid = render::volumeGrid(in[0]->value, "op render: density");
+                  return std::vector<Var>{
+                      render(t, in[0], viewsFromAttrs(t.context(), attrs, grid), settingsFromAttrs(attrs))};
+                }}) &&
+    registerOp({"lift", "images [V,1,h,w] spread along camera rays into [1,V,D,H,W]", {"images"}, {}, liftAttrs(),
+                {"lifted"},
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
+                  const GridSize grid = gridAttr(attrs);
+                  return std::vector<Var>{lift(t, in[0], viewsFromAttrs(t.context(), attrs, grid), grid)};
+                }}) &&
+    registerOp({"rotate", "volume [...,D,H,W] turned about the vertical axis by angle degrees", {"x"}, {},
+                {{"angle", "", "degrees"}}, {"y"},
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
+                  return std::vector<Var>{rotate(t, in[0], attrs.number("angle"))};
+                }});
+
+}  // namespace
+}  // namespace smokesvd::fn
