@@ -1,5 +1,5 @@
 // Renders of every simulated frame: the density seen from the scene's orbit views (evenly on [0°, 180°),
-// orthographic, the renderer of pipeline/render), written as renders/view_VV/NNNN.png, 8-bit gray,
+// orthographic, the renderer of pipeline/render), written as renders/view_VV/NNNN.png, 16-bit gray,
 // value = clamp(exposure · radiance, 0, 1).
 #pragma once
 

@@ -5,7 +5,7 @@
 //   fields/velocity_NNNN.npz           "velocity" [z, y, x, 3], MAC (mantaflow's layout)
 //   fields/inflow_NNNN.npz             "inflow" [z, y, x], the density the sources added in frame NNNN
 //   fields/temperature_NNNN.npz        "temperature" [z, y, x], when the scene tracks temperature
-//   renders/view_VV/NNNN.png           the density rendered from orbit view VV (8-bit gray)
+//   renders/view_VV/NNNN.png           the density rendered from orbit view VV (16-bit gray)
 //   checkpoint.npz, run.json           resume state (a run in progress) and status
 // Every file is written under a temporary name and renamed, so an interrupted run never leaves a
 // truncated file under a final name.
