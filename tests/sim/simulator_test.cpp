@@ -7,6 +7,7 @@
 #include "nets/io/npy.h"
 #include "pipeline/physics/advection.h"
 #include "pipeline/sim/domain.h"
+#include "pipeline/sim/random_scene.h"
 #include "pipeline/sim/run.h"
 #include "pipeline/sim/simulator.h"
 #include "runtime/error.h"
@@ -160,6 +161,20 @@ TEST_F(SimulatorTest, RunsAreDeterministic) {
   EXPECT_TRUE(fs::exists(a / "run.json"));
   EXPECT_FALSE(fs::exists(a / "checkpoint.npz"));
   EXPECT_EQ(differences(a, b), std::vector<std::string>{});
+}
+
+TEST_F(SimulatorTest, ARandomSceneRendersTheSamePlumeForTheSameSeed) {
+  const fs::path a = scratchDirectory("seed_a"), b = scratchDirectory("seed_b");
+  for (const fs::path& directory : {a, b}) {
+    sim::Scene scene = sim::randomScene(5, {16, 28, 16}, 4);
+    scene.render.views = 4;
+    sim::runScene(context(), scene, directory, {});
+  }
+  for (int v = 0; v < 4; ++v) {
+    const fs::path view = fs::path("renders") / ("view_0" + std::to_string(v)) / "0003.png";
+    ASSERT_TRUE(fs::exists(a / view)) << view;
+    EXPECT_EQ(fileBytes(a / view), fileBytes(b / view)) << view;
+  }
 }
 
 TEST_F(SimulatorTest, AnInterruptedRunResumesToIdenticalOutput) {
