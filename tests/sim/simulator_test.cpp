@@ -108,7 +108,7 @@ TEST_F(SimulatorTest, SavedFramesObeyTheAdvectionRelation) {
   simulator.advanceFrame();
   const std::vector<float> density = simulator.density().download(), velocity = simulator.velocity().download();
   simulator.advanceFrame();
-  // density_3 = A(density_2, velocity_2) + inflow_3 with the flags of frame 2.
+  // density[2] = A(density[1], velocity[1]) + inflow[2], with the flags of frame 2.
   Tensor flags = Tensor::fromHost(context(), simulator.grid().volume(), sim::sceneFlags(scene, 2));
   Tensor d = Tensor::fromHost(context(), simulator.grid().volume(), density);
   Tensor u = Tensor::fromHost(context(), simulator.grid().vector(), velocity);
