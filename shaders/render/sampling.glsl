@@ -23,10 +23,24 @@ float corner_weight(ivec3 corner, vec3 f) {
   return w.x * w.y * w.z;
 }
 
+float interpolate(vec3 f, float c000, float c100, float c010, float c110, float c001, float c101, float c011,
+                  float c111) {
+  const float y0 = mix(mix(c000, c100, f.x), mix(c010, c110, f.x), f.y);
+  const float y1 = mix(mix(c001, c101, f.x), mix(c011, c111, f.x), f.y);
+  return mix(y0, y1, f.z);
+}
+
 float sample_zero(samplerBuffer volume, ivec3 size, vec3 p) {
   ivec3 base;
   vec3 f;
   trilinear_corners(p, base, f);
+  if (all(greaterThanEqual(base, ivec3(0))) && all(lessThan(base, size - 1))) {
+    // Fast path: the whole stencil is inside the grid.
+    const int i = voxel_index(base, size), sy = size.x, sz = size.x * size.y;
+    return interpolate(f, texelFetch(volume, i).x, texelFetch(volume, i + 1).x, texelFetch(volume, i + sy).x,
+                       texelFetch(volume, i + sy + 1).x, texelFetch(volume, i + sz).x, texelFetch(volume, i + sz + 1).x,
+                       texelFetch(volume, i + sz + sy).x, texelFetch(volume, i + sz + sy + 1).x);
+  }
   float value = 0.0;
   for (int corner = 0; corner < 8; ++corner) {
     const ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);

@@ -39,7 +39,7 @@ Tensor smoke(Context& context) {
   return Tensor::fromHost(context, {kGrid.depth, kGrid.height, kGrid.width}, values);
 }
 
-void renderBenchmarks(BenchContext& b) {
+void marchBenchmarks(BenchContext& b, bool lit) {
   Context& context = b.context();
   const render::ViewSet views = render::uploadViews(context, orbitCameras(orbitAngles(kViews), kGrid, kWidth, kHeight));
   const Tensor density = smoke(context);
@@ -53,7 +53,7 @@ void renderBenchmarks(BenchContext& b) {
   Stream fill(context);
   ops::fill(fill, gradImages, 1.0f);
   fill.submit();
-  for (bool lit : {false, true}) {
+  {
     const render::RenderSettings s = settings(lit);
     const std::string suffix = lit ? "-lit" : "";
     if (lit) {
@@ -76,6 +76,19 @@ void renderBenchmarks(BenchContext& b) {
                 render::renderBackward(st, density, shadowOrNull, views, s, images, gradImages, gradDensity);
               });
   }
+}
+
+void liftRotateBenchmarks(BenchContext& b) {
+  Context& context = b.context();
+  const render::ViewSet views = render::uploadViews(context, orbitCameras(orbitAngles(kViews), kGrid, kWidth, kHeight));
+  const Tensor density = smoke(context);
+  const double volumeBytes = static_cast<double>(density.bytes());
+  const double imageBytes = 4.0 * kViews * kWidth * kHeight;
+  Tensor images(context, {kViews, 1, kHeight, kWidth});
+  Tensor gradImages(context, {kViews, 1, kHeight, kWidth});
+  Stream fill(context);
+  ops::fill(fill, images, 0.5f);
+  fill.submit();
   Tensor lifted(context, {kViews, kGrid.depth, kGrid.height, kGrid.width});
   b.measure("render/lift", kShape, imageBytes + kViews * volumeBytes, 0,
             [&](Stream& st) { render::lift(st, images, views, kGrid, lifted); });
@@ -88,7 +101,10 @@ void renderBenchmarks(BenchContext& b) {
             [&](Stream& st) { render::rotateBackward(st, density, 30.0, rotated); });
 }
 
-const bool registered = registerBenchmark({"render", renderBenchmarks});
+const bool registered =
+    registerBenchmark({"render/unlit", [](BenchContext& b) { marchBenchmarks(b, false); }}) &&
+    registerBenchmark({"render/lit", [](BenchContext& b) { marchBenchmarks(b, true); }}) &&
+    registerBenchmark({"render/lift-rotate", liftRotateBenchmarks});
 
 }  // namespace
 }  // namespace smokesvd::bench
