@@ -96,23 +96,30 @@ std::vector<LabelledCamera> camerasFor(const RenderArguments& a, const Preset& p
   return cameras;
 }
 
-// Renders `density` through `cameras` (grouped by image size, one dispatch per group).
+// Renders `density` through `cameras`: one dispatch for all views when they share an image size, else one each.
 std::vector<io::Image> renderImages(Context& context, const render::DensityVolume& density,
                                     const std::vector<Camera>& cameras, const render::RenderSettings& settings,
                                     float gain) {
   const Tensor volume = Tensor::fromHost(context, {density.grid.depth, density.grid.height, density.grid.width},
                                          density.values);
+  bool oneSize = true;
+  for (const Camera& camera : cameras)
+    oneSize = oneSize && camera.width == cameras[0].width && camera.height == cameras[0].height;
+  const std::size_t batch = oneSize ? cameras.size() : 1;
   std::vector<io::Image> images;
-  for (const Camera& camera : cameras) {
-    const render::ViewSet views = render::uploadViews(context, std::span<const Camera>(&camera, 1));
-    Tensor rendered(context, {1, 1, camera.height, camera.width});
+  for (std::size_t first = 0; first < cameras.size(); first += batch) {
+    const render::ViewSet views = render::uploadViews(context, std::span<const Camera>(&cameras[first], batch));
+    Tensor rendered(context, {views.views, 1, views.height, views.width});
     Stream stream(context);
     render::render(stream, volume, views, settings, rendered);
     stream.submit();
-    io::Image image = io::Image::gray(camera.width, camera.height);
-    image.values = rendered.download();
-    for (float& v : image.values) v *= gain;
-    images.push_back(std::move(image));
+    const std::vector<float> values = rendered.download();
+    const auto pixels = static_cast<std::size_t>(views.width) * static_cast<std::size_t>(views.height);
+    for (std::size_t v = 0; v < batch; ++v) {
+      io::Image image = io::Image::gray(views.width, views.height);
+      for (std::size_t i = 0; i < pixels; ++i) image.values[i] = gain * values[v * pixels + i];
+      images.push_back(std::move(image));
+    }
   }
   return images;
 }
