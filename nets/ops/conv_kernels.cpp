@@ -136,7 +136,7 @@ void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const
                      bias != nullptr ? 1 : 0, alignedRows ? 1 : 0});
   const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(packedWeights);
   stream.dispatch(kernel, {xp.tensor, asVec4(xp.tensor), asVec4(packedWeights), biasArg, y5}, push,
-                  {groupsFor(items, kDirectWorkgroup), static_cast<uint32_t>(kBlocks), static_cast<uint32_t>(out[0])});
+                  {static_cast<uint32_t>(kBlocks), groupsFor(items, kDirectWorkgroup), static_cast<uint32_t>(out[0])});
 }
 
 Tensor packGrad(Stream& stream, const Tensor& g5, int64_t paddedWidth, int64_t paddedK) {

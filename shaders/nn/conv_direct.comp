@@ -16,7 +16,8 @@
 // vec4s when the rows start on a vec4, ALIGNED_ROWS) and reuses each for up to KW taps and all its
 // channels; each weight vec4 serves PIXELS outputs. Every inner loop has a constant trip count and
 // indexes a local array of that length by its counter, so it is unrolled and the arrays become registers.
-// Lanes run along the flattened (x block, oy, oz); workgroup y is the channel block, z the batch item.
+// Lanes run along the flattened (x block, oy, oz), workgroup y; workgroup x is the channel block, so the
+// blocks of one tile run one after another and find its inputs in cache; workgroup z is the batch item.
 // Positions ox >= gridW and channels k >= K are computed but not written.
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int KD = 1;
@@ -56,13 +57,13 @@ layout(push_constant) uniform Push {
 };
 
 void main() {
-  const int item = int(gl_GlobalInvocationID.x);
+  const int item = int(gl_WorkGroupID.y * gl_WorkGroupSize.x + gl_LocalInvocationID.x);
   const int xBlock = item % xBlocks;
   const int gridRow = item / xBlocks;
   const int oy = gridRow % gridH;
   const int oz = gridRow / gridH;
   if (oz >= gridD) return;
-  const int kBlock = int(gl_WorkGroupID.y);
+  const int kBlock = int(gl_WorkGroupID.x);
   const int n = int(gl_WorkGroupID.z);
   const int ox0 = xBlock * PIXELS;
 

@@ -1,0 +1,104 @@
+#include "pipeline/sim/outputs.h"
+
+#include <cstdio>
+
+#include "nets/io/npy.h"
+#include "pipeline/physics/grid.h"
+#include "runtime/error.h"
+
+namespace smokesvd::sim {
+namespace {
+
+namespace fs = std::filesystem;
+
+io::NpyArray volumeArray(const physics::GridSize& grid, std::vector<float> values) {
+  return io::NpyArray::fromFloats({grid.z, grid.y, grid.x}, std::move(values));
+}
+
+// Planar [3, D, H, W] host values to the file layout [D, H, W, 3].
+io::NpyArray vectorArray(const physics::GridSize& grid, const std::vector<float>& planar) {
+  const std::size_t cells = static_cast<std::size_t>(grid.cells());
+  std::vector<float> interleaved(3 * cells);
+  for (std::size_t c = 0; c < cells; ++c)
+    for (std::size_t a = 0; a < 3; ++a) interleaved[3 * c + a] = planar[a * cells + c];
+  return io::NpyArray::fromFloats({grid.z, grid.y, grid.x, 3}, std::move(interleaved));
+}
+
+std::vector<float> planarFrom(const io::NpyArray& array) {
+  const std::vector<float> interleaved = array.toFloat();
+  const std::size_t cells = interleaved.size() / 3;
+  std::vector<float> planar(interleaved.size());
+  for (std::size_t c = 0; c < cells; ++c)
+    for (std::size_t a = 0; a < 3; ++a) planar[a * cells + c] = interleaved[3 * c + a];
+  return planar;
+}
+
+}  // namespace
+
+std::string frameName(int frame) {
+  char name[16];
+  std::snprintf(name, sizeof name, "%04d", frame);
+  return name;
+}
+
+void writeFrameFields(const fs::path& directory, const Simulator& simulator) {
+  const physics::GridSize& grid = simulator.grid();
+  const std::string frame = frameName(simulator.frame() - 1);
+  const fs::path fields = directory / "fields";
+  fs::create_directories(fields);
+  io::writeNpz(fields / ("density_" + frame + ".npz"), {{"density", volumeArray(grid, simulator.density().download())}});
+  io::writeNpz(fields / ("velocity_" + frame + ".npz"), {{"velocity", vectorArray(grid, simulator.velocity().download())}});
+  io::writeNpz(fields / ("inflow_" + frame + ".npz"), {{"inflow", volumeArray(grid, simulator.inflow().download())}});
+  if (const Tensor* temperature = simulator.temperature())
+    io::writeNpz(fields / ("temperature_" + frame + ".npz"), {{"temperature", volumeArray(grid, temperature->download())}});
+}
+
+void writeFlags(const fs::path& directory, const Simulator& simulator) {
+  const std::vector<float> flags = simulator.flags().download();
+  const physics::GridSize& grid = simulator.grid();
+  io::writeNpz(directory / "flags.npz",
+               {{"flags", io::NpyArray::fromInts({grid.z, grid.y, grid.x}, std::vector<int32_t>(flags.begin(), flags.end()))}});
+}
+
+void writeCheckpoint(const fs::path& directory, const Simulator& simulator) {
+  const SimulatorState state = simulator.state();
+  const physics::GridSize& grid = simulator.grid();
+  std::map<std::string, io::NpyArray> arrays = {
+      {"frame", io::NpyArray::fromInts({1}, {state.frame})},
+      {"density", volumeArray(grid, state.density)},
+      {"velocity", vectorArray(grid, state.velocity)},
+      {"pressure", volumeArray(grid, state.pressure)},
+  };
+  if (!state.temperature.empty()) arrays.emplace("temperature", volumeArray(grid, state.temperature));
+  io::writeNpz(directory / "checkpoint.npz", arrays, false);
+}
+
+std::optional<SimulatorState> readCheckpoint(const fs::path& directory, const Scene& scene) {
+  const fs::path path = directory / "checkpoint.npz";
+  if (!fs::exists(path)) return std::nullopt;
+  const std::map<std::string, io::NpyArray> arrays = io::readNpz(path);
+  auto member = [&](const char* key) -> const io::NpyArray& {
+    auto it = arrays.find(key);
+    if (it == arrays.end()) throw Error(path.string() + ": the checkpoint has no '" + key + "' array");
+    return it->second;
+  };
+  const physics::GridSize grid{scene.resolution[0], scene.resolution[1], scene.resolution[2]};
+  const Shape volume{grid.z, grid.y, grid.x}, vector{grid.z, grid.y, grid.x, 3};
+  for (const char* key : {"density", "pressure"})
+    if (member(key).shape != volume)
+      throw Error(path.string() + ": '" + key + "' is " + toString(member(key).shape) + ", the scene needs " + toString(volume));
+  if (member("velocity").shape != vector)
+    throw Error(path.string() + ": 'velocity' is " + toString(member("velocity").shape) + ", the scene needs " + toString(vector));
+  SimulatorState state;
+  const std::vector<float> frame = member("frame").toFloat();
+  if (frame.size() != 1 || frame[0] < 0 || frame[0] > static_cast<float>(scene.frames))
+    throw Error(path.string() + ": 'frame' must hold one frame count in [0, " + std::to_string(scene.frames) + "]");
+  state.frame = static_cast<int>(frame[0]);
+  state.density = member("density").toFloat();
+  state.pressure = member("pressure").toFloat();
+  state.velocity = planarFrom(member("velocity"));
+  if (scene.tracksTemperature()) state.temperature = member("temperature").toFloat();
+  return state;
+}
+
+}  // namespace smokesvd::sim

@@ -1,0 +1,32 @@
+// What a simulation run writes into its output directory (docs/simulation.md has the full layout):
+//   scene.json                         every parameter, enough to reproduce the run
+//   flags.npz                          "flags" [z, y, x] int32 at frame 0 (1 fluid, 2 obstacle, 4 empty)
+//   fields/density_NNNN.npz            "density" [z, y, x]
+//   fields/velocity_NNNN.npz           "velocity" [z, y, x, 3], MAC (mantaflow's layout)
+//   fields/inflow_NNNN.npz             "inflow" [z, y, x], the density the sources added in frame NNNN
+//   fields/temperature_NNNN.npz        "temperature" [z, y, x], when the scene tracks temperature
+//   renders/view_VV/NNNN.png           the density rendered from orbit view VV (8-bit gray)
+//   checkpoint.npz, run.json           resume state (a run in progress) and status
+// Every file is written under a temporary name and renamed, so an interrupted run never leaves a
+// truncated file under a final name.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "pipeline/sim/simulator.h"
+
+namespace smokesvd::sim {
+
+std::string frameName(int frame);  // "0042"
+
+// Writes the fields of the simulator's last completed frame (frame() − 1).
+void writeFrameFields(const std::filesystem::path& directory, const Simulator& simulator);
+void writeFlags(const std::filesystem::path& directory, const Simulator& simulator);
+
+// Checkpoint of the simulator after its last completed frame.
+void writeCheckpoint(const std::filesystem::path& directory, const Simulator& simulator);
+// The saved state, or nothing if the directory holds no checkpoint.
+std::optional<SimulatorState> readCheckpoint(const std::filesystem::path& directory, const Scene& scene);
+
+}  // namespace smokesvd::sim
