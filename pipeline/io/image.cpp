@@ -11,16 +11,10 @@
 
 #include "runtime/error.h"
 
-extern "C" {
-unsigned char* stbi_load_16_from_memory(const unsigned char* buffer, int len, int* x, int* y, int* channels,
-                                        int desired);
-unsigned char* stbi_load_from_memory(const unsigned char* buffer, int len, int* x, int* y, int* channels,
-                                     int desired);
-int stbi_is_16_bit_from_memory(const unsigned char* buffer, int len);
-const char* stbi_failure_reason(void);
-void stbi_image_free(void* data);
-unsigned char* stbi_zlib_compress(unsigned char* data, int length, int* outLength, int quality);
-}
+#include <stb/stb_image.h>
+
+// stb_image_write's zlib compressor (compiled in stb_backend.cpp; its header does not declare it).
+extern "C" unsigned char* stbi_zlib_compress(unsigned char* data, int length, int* outLength, int quality);
 
 namespace smokesvd::io {
 namespace {
@@ -75,16 +69,17 @@ Image readPng(const fs::path& path) {
   const int length = static_cast<int>(bytes.size());
   int width = 0, height = 0, channels = 0;
   const bool sixteen = stbi_is_16_bit_from_memory(bytes.data(), length) != 0;
-  std::unique_ptr<unsigned char, void (*)(void*)> pixels(
-      sixteen ? stbi_load_16_from_memory(bytes.data(), length, &width, &height, &channels, 0)
-              : stbi_load_from_memory(bytes.data(), length, &width, &height, &channels, 0),
+  std::unique_ptr<void, void (*)(void*)> pixels(
+      sixteen ? static_cast<void*>(stbi_load_16_from_memory(bytes.data(), length, &width, &height, &channels, 0))
+              : static_cast<void*>(stbi_load_from_memory(bytes.data(), length, &width, &height, &channels, 0)),
       stbi_image_free);
   if (!pixels)
     throw Error(path.string() + ": not a readable PNG (" + stbi_failure_reason() +
                 "); expected an 8- or 16-bit PNG image");
   const double scale = sixteen ? 1.0 / 65535.0 : 1.0 / 255.0;
   auto sample = [&](std::size_t index) {
-    return sixteen ? reinterpret_cast<const uint16_t*>(pixels.get())[index] * scale : pixels.get()[index] * scale;
+    return sixteen ? static_cast<const stbi_us*>(pixels.get())[index] * scale
+                   : static_cast<const stbi_uc*>(pixels.get())[index] * scale;
   };
   Image image = Image::gray(width, height);
   const auto n = static_cast<std::size_t>(channels);

@@ -194,9 +194,16 @@ VideoInfo probeVideo(const fs::path& path) {
 std::vector<Image> readVideoFrames(const fs::path& path, int first, int count) {
   const VideoInfo info = probeVideo(path);
   const fs::path ffmpeg = requireFfmpeg(path);
-  std::vector<std::string> arguments = {"-v", "error", "-nostdin", "-i", path.string()};
-  std::string filter = "select=gte(n\\," + std::to_string(std::max(first, 0)) + ")";
-  arguments.insert(arguments.end(), {"-vf", filter, "-vsync", "0"});
+  std::vector<std::string> arguments = {"-v", "error", "-nostdin"};
+  if (first > 0 && info.frameRate > 0) {
+    // Input seeking decodes from the keyframe before and drops frames earlier than the given time: half a
+    // frame before frame `first` keeps exactly the frames from `first` on (constant frame rate).
+    arguments.insert(arguments.end(), {"-ss", std::to_string((first - 0.5) / info.frameRate), "-i", path.string()});
+  } else {
+    arguments.insert(arguments.end(), {"-i", path.string(), "-vf",
+                                       "select=gte(n\\," + std::to_string(std::max(first, 0)) + ")"});
+  }
+  arguments.insert(arguments.end(), {"-vsync", "0"});
   if (count >= 0) arguments.insert(arguments.end(), {"-frames:v", std::to_string(count)});
   arguments.insert(arguments.end(), {"-f", "rawvideo", "-pix_fmt", "gray16le", "-"});
   ChildProcess child(ffmpeg, arguments);

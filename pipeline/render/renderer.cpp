@@ -60,6 +60,8 @@ void requireFinite(float value, const char* field, bool positive) {
 
 void validate(const RenderSettings& settings) {
   requireFinite(settings.step, "step", true);
+  if (settings.step < 1e-3f || (settings.light && settings.light->step < 1e-3f))
+    throw Error("render settings: march steps must be at least 0.001 voxels");
   requireFinite(settings.absorption, "absorption", false);
   if (!std::isfinite(settings.ambient)) throw Error("render settings: ambient must be finite");
   if (settings.light) {

@@ -39,7 +39,7 @@ struct RenderSettings {
   std::optional<DirectionalLight> light;
 };
 
-// Throws Error naming the field unless steps are positive and every number is finite (absorptions >= 0).
+// Throws Error naming the field unless steps are at least 0.001 voxels, absorptions >= 0 and every number finite.
 void validate(const RenderSettings& settings);
 
 // Renders density [D, H, W] through every view into images [V, 1, h, w].

@@ -9,6 +9,11 @@ namespace smokesvd::render {
 namespace {
 
 constexpr std::array<uint32_t, 3> kWorkgroup{64, 1, 1};
+constexpr std::array<uint32_t, 3> kGridWorkgroup{16, 4, 1};
+
+std::array<uint32_t, 3> gridGroups(int64_t x, int64_t y, int64_t z) {
+  return {static_cast<uint32_t>((x + 15) / 16), static_cast<uint32_t>((y + 3) / 4), static_cast<uint32_t>(z)};
+}
 
 struct RotatePush {
   int32_t width, height, depth, channels;
@@ -31,8 +36,8 @@ RotatePush rotatePush(const char* op, const Tensor& a, const Tensor& b, double a
 
 void rotate(Stream& stream, const Tensor& volume, double angleDegrees, const Tensor& rotated) {
   const RotatePush push = rotatePush("rotate", volume, rotated, angleDegrees);
-  stream.dispatchFlat(stream.kernel("render/rotate", kWorkgroup), {volume, rotated}, push,
-                      static_cast<uint64_t>(volume.numel()));
+  stream.dispatch(stream.kernel("render/rotate", kGridWorkgroup), {volume, rotated}, push,
+                  gridGroups(push.width, push.height, static_cast<int64_t>(push.depth) * push.channels));
 }
 
 void rotateBackward(Stream& stream, const Tensor& gradRotated, double angleDegrees, const Tensor& gradVolume) {

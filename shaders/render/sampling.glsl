@@ -23,18 +23,36 @@ float corner_weight(ivec3 corner, vec3 f) {
   return w.x * w.y * w.z;
 }
 
-float sample_zero(samplerBuffer volume, ivec3 size, vec3 p) {
+float interpolate(vec3 f, float c000, float c100, float c010, float c110, float c001, float c101, float c011,
+                  float c111) {
+  const float y0 = mix(mix(c000, c100, f.x), mix(c010, c110, f.x), f.y);
+  const float y1 = mix(mix(c001, c101, f.x), mix(c011, c111, f.x), f.y);
+  return mix(y0, y1, f.z);
+}
+
+// `offset`: index of the volume's first voxel in the buffer (e.g. channel * voxels).
+float sample_zero_at(samplerBuffer volume, int offset, ivec3 size, vec3 p) {
   ivec3 base;
   vec3 f;
   trilinear_corners(p, base, f);
+  if (all(greaterThanEqual(base, ivec3(0))) && all(lessThan(base, size - 1))) {
+    // Fast path: the whole stencil is inside the grid.
+    const int i = offset + voxel_index(base, size), sy = size.x, sz = size.x * size.y;
+    return interpolate(f, texelFetch(volume, i).x, texelFetch(volume, i + 1).x, texelFetch(volume, i + sy).x,
+                       texelFetch(volume, i + sy + 1).x, texelFetch(volume, i + sz).x, texelFetch(volume, i + sz + 1).x,
+                       texelFetch(volume, i + sz + sy).x, texelFetch(volume, i + sz + sy + 1).x);
+  }
   float value = 0.0;
   for (int corner = 0; corner < 8; ++corner) {
-    const ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
-    const ivec3 v = base + offset;
-    if (voxel_inside(v, size)) value += corner_weight(offset, f) * texelFetch(volume, voxel_index(v, size)).x;
+    const ivec3 corner_offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+    const ivec3 v = base + corner_offset;
+    if (voxel_inside(v, size))
+      value += corner_weight(corner_offset, f) * texelFetch(volume, offset + voxel_index(v, size)).x;
   }
   return value;
 }
+
+float sample_zero(samplerBuffer volume, ivec3 size, vec3 p) { return sample_zero_at(volume, 0, size, p); }
 
 vec3 clamp_to_centres(vec3 p, ivec3 size) { return clamp(p, vec3(0.5), vec3(size) - 0.5); }
 
