@@ -7,6 +7,7 @@
 #include <memory>
 #include <regex>
 
+#include "nets/io/file_io.h"
 #include "runtime/error.h"
 
 namespace smokesvd::io {
@@ -33,30 +34,6 @@ Shape parseShape(const std::string& header, const std::string& source) {
   for (auto it = std::sregex_iterator(dims.begin(), dims.end(), number); it != std::sregex_iterator(); ++it)
     shape.push_back(std::stoll(it->str()));
   return shape;
-}
-
-std::vector<std::byte> readFile(const std::filesystem::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw Error(path.string() + ": cannot open for reading");
-  std::vector<char> raw((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  std::vector<std::byte> bytes(raw.size());
-  std::memcpy(bytes.data(), raw.data(), raw.size());
-  return bytes;
-}
-
-// Writes through "<path>.tmp" and renames, so readers never see a partial file.
-template <typename Write>
-void writeAtomically(const std::filesystem::path& path, Write&& write) {
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  try {
-    write(temporary);
-    std::filesystem::rename(temporary, path);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
-  }
 }
 
 }  // namespace
@@ -154,15 +131,10 @@ std::vector<std::byte> serializeNpy(const NpyArray& array) {
   return bytes;
 }
 
-NpyArray readNpy(const std::filesystem::path& path) { return parseNpy(readFile(path), path.string()); }
+NpyArray readNpy(const std::filesystem::path& path) { return parseNpy(readFileBytes(path), path.string()); }
 
 void writeNpy(const std::filesystem::path& path, const NpyArray& array) {
-  const std::vector<std::byte> bytes = serializeNpy(array);
-  writeAtomically(path, [&](const std::filesystem::path& temporary) {
-    std::ofstream file(temporary, std::ios::binary);
-    file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    if (!file) throw Error(path.string() + ": write failed");
-  });
+  writeFileAtomically(path, serializeNpy(array));
 }
 
 namespace {

@@ -11,6 +11,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "nets/io/file_io.h"
 #include "runtime/error.h"
 
 namespace smokesvd::io {
@@ -200,34 +201,6 @@ void checkLayout(std::vector<TensorEntry>& entries, uint64_t dataBytes, const st
     throw fail(source, std::to_string(dataBytes - covered) + " bytes after the last tensor belong to no tensor");
 }
 
-std::vector<std::byte> readFile(const std::filesystem::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw Error(path.string() + ": cannot open for reading");
-  std::vector<char> raw((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  std::vector<std::byte> bytes(raw.size());
-  std::memcpy(bytes.data(), raw.data(), raw.size());
-  return bytes;
-}
-
-// Writes through "<path>.tmp" and renames, so readers never see a partial file.
-void writeFileAtomically(const std::filesystem::path& path, const std::vector<std::byte>& bytes) {
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  try {
-    {
-      std::ofstream file(temporary, std::ios::binary);
-      file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-      file.close();
-      if (!file) throw Error(path.string() + ": write failed");
-    }
-    std::filesystem::rename(temporary, path);
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw;
-  }
-}
-
 std::string joined(const std::vector<std::string>& items) {
   std::string text;
   for (const std::string& item : items) text += (text.empty() ? "" : ", ") + item;
@@ -308,7 +281,7 @@ std::vector<std::byte> serializeSafetensors(const std::vector<NamedArray>& tenso
 }
 
 SafetensorsFile readSafetensors(const std::filesystem::path& path) {
-  return parseSafetensors(readFile(path), path.string());
+  return parseSafetensors(readFileBytes(path), path.string());
 }
 
 void writeSafetensors(const std::filesystem::path& path, const std::vector<NamedArray>& tensors,
