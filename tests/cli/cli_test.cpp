@@ -59,6 +59,8 @@ TEST(Cli, BenchJsonReportsDeviceAndKernels) {
   EXPECT_FALSE(json.at("device").get<std::string>().empty());
   ASSERT_FALSE(json.at("results").empty());
   EXPECT_GT(json["results"][0].at("median_ns").get<double>(), 0);
+  EXPECT_GT(json.at("reference").at("peak_gflop_per_s").get<double>(), 0);
+  EXPECT_GT(json.at("reference").at("copy_gb_per_s").get<double>(), 0);
 }
 
 TEST(Cli, BenchWithUnknownFilterFails) {

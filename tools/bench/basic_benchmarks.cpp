@@ -11,14 +11,6 @@
 namespace smokesvd::bench {
 namespace {
 
-Tensor filled(Context& context, const Shape& shape, float value) {
-  Tensor tensor(context, shape);
-  Stream stream(context);
-  ops::fill(stream, tensor, value);
-  stream.submit();
-  return tensor;
-}
-
 void linear(BenchContext& b) {
   constexpr int64_t kBatch = 256, kIn = 1024, kOut = 1024;
   Context& c = b.context();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "nets/ops/elementwise.h"
 #include "runtime/error.h"
 
 namespace smokesvd::bench {
@@ -24,6 +25,14 @@ const std::vector<Benchmark>& benchmarks() {
   std::sort(registry().begin(), registry().end(),
             [](const Benchmark& a, const Benchmark& b) { return a.name < b.name; });
   return registry();
+}
+
+Tensor filled(Context& context, const Shape& shape, float value) {
+  Tensor tensor(context, shape);
+  Stream stream(context);
+  ops::fill(stream, tensor, value);
+  stream.submit();
+  return tensor;
 }
 
 double BenchContext::timeMedian(const std::function<void(Stream&)>& work) {

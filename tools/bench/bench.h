@@ -11,6 +11,7 @@
 
 #include "runtime/context.h"
 #include "runtime/stream.h"
+#include "runtime/tensor.h"
 
 namespace smokesvd::bench {
 
@@ -52,6 +53,18 @@ struct Benchmark {
   std::string name;  // "group/name"; the FILTER of `smokesvd bench` matches a substring of it
   std::function<void(BenchContext&)> run;
 };
+
+// What the device can do at best, measured at the start of every `smokesvd bench` run so that each
+// figure is also read as a fraction of its ceiling on the same device at the same moment (shared or
+// throttled machines vary by 2x from one minute to the next).
+struct DeviceReference {
+  double peakGflops = 0;     // loop-FMA peak (peak/fma-loop)
+  double bandwidthGbps = 0;  // the faster of the two kernel copies (copy/texel-read, copy/storage-read)
+};
+DeviceReference measureDeviceReference(Context& context, BenchOptions options);
+
+// A tensor of `shape` with every element `value` (benchmark inputs).
+Tensor filled(Context& context, const Shape& shape, float value);
 
 bool registerBenchmark(Benchmark benchmark);
 const std::vector<Benchmark>& benchmarks();

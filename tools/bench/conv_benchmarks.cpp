@@ -24,14 +24,6 @@ double flops(const ConvShape& c) {
   return 2.0 * static_cast<double>(numElements(y)) * static_cast<double>(numElements(c.w) / c.w[0]);
 }
 
-Tensor filled(Context& context, const Shape& shape, float value) {
-  Tensor t(context, shape);
-  Stream stream(context);
-  ops::fill(stream, t, value);
-  stream.submit();
-  return t;
-}
-
 struct Operands {
   Tensor x, w, b, y, dy, dx, dw;
 };

@@ -12,14 +12,6 @@
 namespace smokesvd::bench {
 namespace {
 
-Tensor filled(Context& context, const Shape& shape, float value) {
-  Tensor tensor(context, shape);
-  Stream stream(context);
-  ops::fill(stream, tensor, value);
-  stream.submit();
-  return tensor;
-}
-
 // Values scattered over [-1, 1) (a multiplicative hash of the index), so max-pool windows are not ties.
 Tensor varied(Context& context, const Shape& shape) {
   std::vector<float> values(static_cast<std::size_t>(numElements(shape)));

@@ -1,5 +1,8 @@
-// Runtime benchmarks: memory bandwidth through each read path, elementwise kernels, reductions, and the
-// cost of one dispatch inside a batch. Bytes count everything read plus everything written.
+// Runtime benchmarks: the arithmetic peak of loop code, memory bandwidth through each read path,
+// elementwise kernels, reductions, and the cost of one dispatch inside a batch. Bytes count everything
+// read plus everything written.
+#include <algorithm>
+
 #include "nets/ops/elementwise.h"
 #include "nets/ops/reduce.h"
 #include "tools/bench/bench.h"
@@ -11,17 +14,21 @@ constexpr int64_t kElements = 1 << 24;  // 64 MiB of float32
 const std::string kShape = "[16777216]";
 constexpr double kBytes = kElements * 4.0;
 
+void kernelCopies(BenchContext& b, const Tensor& x, const Tensor& y) {
+  b.measure("copy/texel-read", kShape, 2 * kBytes, 0, [&](Stream& s) { ops::copy(s, x, y); });
+  b.measure("copy/storage-read", kShape, 2 * kBytes, 0, [&](Stream& s) {
+    struct { uint32_t n; } push{static_cast<uint32_t>(kElements)};
+    s.dispatchFlat(s.kernel("tensor/copy_storage", {128, 1, 1}), {x, y}, push, kElements / 4);
+  });
+}
+
 void copyPaths(BenchContext& b) {
   Tensor x(b.context(), {kElements});
   Tensor y(b.context(), {kElements});
   Stream fill(b.context());
   ops::fill(fill, x, 1.0f);
   fill.submit();
-  b.measure("copy/texel-read", kShape, 2 * kBytes, 0, [&](Stream& s) { ops::copy(s, x, y); });
-  b.measure("copy/storage-read", kShape, 2 * kBytes, 0, [&](Stream& s) {
-    struct { uint32_t n; } push{static_cast<uint32_t>(kElements)};
-    s.dispatchFlat(s.kernel("tensor/copy_storage", {128, 1, 1}), {x, y}, push, kElements / 4);
-  });
+  kernelCopies(b, x, y);
   b.measure("copy/transfer", kShape, 2 * kBytes, 0, [&](Stream& s) { s.copy(x, y); });
 }
 
@@ -55,6 +62,20 @@ void reductions(BenchContext& b) {
   });
 }
 
+// The loop-FMA ceiling (shaders/bench/fma_peak.comp): 64 FLOPs per round, 256 rounds, 2^16 invocations. The
+// compute-bound benchmarks (convolution, linear) are read as a fraction of this figure.
+void fmaPeak(BenchContext& b) {
+  constexpr uint32_t kInvocations = 1 << 16;
+  constexpr int kIterations = 256;
+  Tensor out(b.context(), {kInvocations});
+  struct {
+    int32_t iterations;
+    float seed;
+  } push{kIterations, 1.0f};
+  b.measure("peak/fma-loop", "8 vec4 chains x 256 x 65536", 0, 64.0 * kIterations * kInvocations,
+            [&](Stream& s) { s.dispatchFlat(s.kernel("bench/fma_peak", {64, 1, 1}), {out}, push, kInvocations); });
+}
+
 void emptyDispatch(BenchContext& b) {
   constexpr int kBatch = 1000;
   const double total = b.timeMedian([&](Stream& s) {
@@ -69,8 +90,26 @@ void emptyDispatch(BenchContext& b) {
   b.add(m);
 }
 
+}  // namespace
+
+DeviceReference measureDeviceReference(Context& context, BenchOptions options) {
+  BenchContext b(context, options);
+  fmaPeak(b);
+  Tensor x(context, {kElements});
+  Tensor y(context, {kElements});
+  Stream fill(context);
+  ops::fill(fill, x, 1.0f);
+  fill.submit();
+  kernelCopies(b, x, y);
+  const std::vector<Measurement>& m = b.results();
+  return {m[0].gflopPerSecond(), std::max(m[1].gbPerSecond(), m[2].gbPerSecond())};
+}
+
+namespace {
+
 const bool registered = registerBenchmark({"copy", copyPaths}) && registerBenchmark({"elementwise", elementwise}) &&
-                        registerBenchmark({"reduce", reductions}) && registerBenchmark({"dispatch", emptyDispatch});
+                        registerBenchmark({"reduce", reductions}) && registerBenchmark({"dispatch", emptyDispatch}) &&
+                        registerBenchmark({"peak", fmaPeak});
 
 }  // namespace
 }  // namespace smokesvd::bench
