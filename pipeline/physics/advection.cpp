@@ -148,6 +148,17 @@ void advect(Stream& stream, const FlagGrid& flags, const Tensor& field, const Te
     if (cache) *cache = {};
     return;
   }
+  if (!cache) {
+    // No adjoint will follow: first-order values only, the correction recomputes what it needs.
+    const Tensor firstOrder(stream.context(), field.shape());
+    semiLagrangianPass(stream, planes, field, velocity, nullptr, params.dt, firstOrder);
+    for (int plane = 0; plane < planes.count; ++plane) {
+      const Kernel& kernel = stream.kernel("physics/advect_mc_fused", kWorkgroup, {planes.mode(plane), inflow ? 1 : 0});
+      stream.dispatch(kernel, {flags.masks(), field, velocity, firstOrder, inflow ? *inflow : field, out},
+                      planes.push(plane, params.dt, params.strength), planes.groups());
+    }
+    return;
+  }
   const AdvectionCache prepared = macCormackPrepare(stream, planes, flags, field, velocity, params);
   for (int plane = 0; plane < planes.count; ++plane) {
     const Kernel& kernel = stream.kernel("physics/advect_mc", kWorkgroup, {planes.mode(plane), inflow ? 1 : 0});
@@ -155,7 +166,7 @@ void advect(Stream& stream, const FlagGrid& flags, const Tensor& field, const Te
         kernel, {prepared.firstOrder, asVec4(prepared.trace), asVec4(prepared.bounds), inflow ? *inflow : field, out},
         planes.push(plane, params.dt, params.strength), planes.groups());
   }
-  if (cache) *cache = prepared;
+  *cache = prepared;
 }
 
 void advectBackward(Stream& stream, const FlagGrid& flags, const Tensor& field, const Tensor& velocity,

@@ -85,12 +85,19 @@ class AdvectTest : public GpuTest, public ::testing::WithParamInterface<Variant>
     const AdvectionCase<float> input = randomCase(grid, GetParam().mac, withInflow, seed, speed);
     Stream stream(context());
     const GpuCase gpu(stream, input);
+    // Without a cache (the simulator's path) and with one (training's path, MacCormack keeps its
+    // first pass for the adjoint): two kernel sequences, the same values.
     Tensor out = poisonedTensor(context(), gpu.field.shape());
-    physics::advect(stream, gpu.flags, gpu.field, gpu.velocity, withInflow ? &gpu.inflow : nullptr, params(dt), out);
+    Tensor outCached = poisonedTensor(context(), gpu.field.shape());
+    physics::AdvectionCache cache;
+    const Tensor* inflow = withInflow ? &gpu.inflow : nullptr;
+    physics::advect(stream, gpu.flags, gpu.field, gpu.velocity, inflow, params(dt), out);
+    physics::advect(stream, gpu.flags, gpu.field, gpu.velocity, inflow, params(dt), outCached, &cache);
     stream.submit();
     AdvectionDiagnostics diagnostics;
     const std::vector<float> expected = referenceAdvect(input, params(dt), &diagnostics);
     EXPECT_TRUE(allClose(out, expected, {1e-5, 1e-5}));
+    EXPECT_EQ(out.download(), outCached.download());
     if (GetParam().scheme == AdvectionScheme::MacCormack) {
       EXPECT_GT(diagnostics.kept, 0);
       EXPECT_GT(diagnostics.reverted, 0);

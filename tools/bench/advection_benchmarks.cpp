@@ -1,6 +1,7 @@
 // Advection benchmarks: semi-Lagrangian and MacCormack, forward and adjoint (w.r.t. field and
 // velocity), for a 64³ scalar field and for the paper's 64x112x64 density plus MAC velocity
-// self-advection. The flow is a smooth swirl rising at up to ~1.5 cells per step.
+// self-advection, next to one trilinear resample of the 64³ volume for scale. The flow is a smooth swirl
+// rising at up to ~1.5 cells per step.
 // Bytes count each tensor a dispatch reads or writes once (float32): SL reads field + 3 velocity
 // planes and writes 1 plane; the MacCormack pass reads flags, field, first-order pass and velocity.
 #include <cmath>
@@ -8,6 +9,7 @@
 
 #include "pipeline/physics/advection.h"
 #include "pipeline/physics/grid.h"
+#include "pipeline/render/rotate.h"
 #include "tools/bench/bench.h"
 
 namespace smokesvd::bench {
@@ -85,12 +87,18 @@ void scalar64(BenchContext& b) {
   Stream fill(b.context());
   fill.copy(scene.density, gradOut);
   fill.submit();
+  // The yardstick of the MacCormack target: one trilinear resample of the same volume through texel
+  // buffers (a rotation about the vertical axis); MacCormack should cost about three of these.
+  b.measure("advect/resample-reference", shapeOf(scene.grid, "rotated 30 deg"), 2.0 * 4.0 * static_cast<double>(scene.grid.cells()), 0,
+            [&](Stream& s) { render::rotate(s, scene.density, 30.0, out); });
   for (AdvectionScheme scheme : {AdvectionScheme::SemiLagrangian, AdvectionScheme::MacCormack}) {
     const physics::AdvectionParams params{.scheme = scheme};
     const std::string name = std::string("advect/") + schemeName(scheme) + "-scalar";
     b.measure(name, shapeOf(scene.grid, "density"), forwardBytes(scene.grid, 1, scheme), 0, [&](Stream& s) {
       physics::advect(s, scene.flags, scene.density, scene.velocity, nullptr, params, out, &cache);
     });
+    b.measure(name + "-no-cache", shapeOf(scene.grid, "density"), forwardBytes(scene.grid, 1, scheme), 0,
+              [&](Stream& s) { physics::advect(s, scene.flags, scene.density, scene.velocity, nullptr, params, out); });
     b.measure(name + "-adjoint", shapeOf(scene.grid, "density"), adjointBytes(scene.grid, 1, scheme), 0,
               [&](Stream& s) {
                 physics::advectBackward(s, scene.flags, scene.density, scene.velocity, params, gradOut, &cache,
