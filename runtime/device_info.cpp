@@ -1,6 +1,7 @@
 #include "runtime/device_info.h"
 
 #include <algorithm>
+#include <bit>
 #include <cctype>
 #include <cstring>
 
@@ -86,6 +87,10 @@ std::string DeviceInfo::typeName() const {
     case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
     default: return "other";
   }
+}
+
+uint32_t DeviceInfo::reductionWorkgroup() const {
+  return std::clamp(std::bit_floor(std::max(subgroupSize, 1u)), 8u, 256u);
 }
 
 int DeviceInfo::preferenceRank() const {

@@ -2,14 +2,18 @@
 
 #include <algorithm>
 
+#include "runtime/context.h"
 #include "runtime/error.h"
 
 namespace smokesvd::ops {
 namespace {
 
-constexpr uint32_t kReduceWorkgroup = 64;  // a power of two: the shared-memory tree halves it
 constexpr int32_t kChunk = 4096;           // elements one reducing workgroup covers
 constexpr int64_t kMaxGroups = 65535;
+
+// The reducing kernels' workgroup (a power of two: the shared-memory tree halves it); the per-plane
+// kernels use the same size.
+uint32_t reduceWorkgroup(const Stream& stream) { return stream.context().info().reductionWorkgroup(); }
 
 int32_t chunksOf(int64_t elements) { return static_cast<int32_t>((elements + kChunk - 1) / kChunk); }
 int32_t vec4When(int64_t elements) { return elements % 4 == 0 ? 1 : 0; }
@@ -61,7 +65,7 @@ void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, cons
 
   struct { int32_t groupSize, chunks; } statsPush{static_cast<int32_t>(groupSize), chunks};
   const int32_t vec4 = vec4When(groupSize);
-  stream.dispatch(stream.kernel("nn/group_norm_stats", {kReduceWorkgroup, 1, 1}, {vec4, kChunk}),
+  stream.dispatch(stream.kernel("nn/group_norm_stats", {reduceWorkgroup(stream), 1, 1}, {vec4, kChunk}),
                   {vec4 ? asVec4(x) : Arg(x), partial}, statsPush,
                   {static_cast<uint32_t>(chunks), static_cast<uint32_t>(blocks), 1});
 
@@ -71,7 +75,7 @@ void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, cons
                       static_cast<uint64_t>(blocks));
 
   const int32_t planeVec4 = vec4When(s.planeSize);
-  stream.dispatch(stream.kernel("nn/group_norm_apply", {kReduceWorkgroup, 1, 1}, {planeVec4, kChunk}),
+  stream.dispatch(stream.kernel("nn/group_norm_apply", {reduceWorkgroup(stream), 1, 1}, {planeVec4, kChunk}),
                   {planeVec4 ? asVec4(x) : Arg(x), gamma, beta, stats, y}, planePush(s), planeGrid(s));
 }
 
@@ -94,7 +98,7 @@ void groupNormBackward(Stream& stream, const Tensor& x, const Tensor& gamma, con
   const Arg gyArg = vec4 ? asVec4(gy) : Arg(gy);
   struct { int32_t planeSize, chunks, channelsPerGroup; } reducePush{
       static_cast<int32_t>(s.planeSize), chunks, static_cast<int32_t>(s.channels / groups)};
-  stream.dispatch(stream.kernel("nn/group_norm_backward_reduce", {kReduceWorkgroup, 1, 1}, {vec4, kChunk}),
+  stream.dispatch(stream.kernel("nn/group_norm_backward_reduce", {reduceWorkgroup(stream), 1, 1}, {vec4, kChunk}),
                   {xArg, gyArg, stats, partial}, reducePush,
                   {static_cast<uint32_t>(chunks), static_cast<uint32_t>(planes), 1});
 
@@ -105,7 +109,7 @@ void groupNormBackward(Stream& stream, const Tensor& x, const Tensor& gamma, con
                       {partial, gamma, ggamma, gbeta, coef}, finalizePush,
                       static_cast<uint64_t>(std::max(s.channels, s.batch * groups)));
 
-  stream.dispatch(stream.kernel("nn/group_norm_backward_apply", {kReduceWorkgroup, 1, 1}, {vec4, kChunk}),
+  stream.dispatch(stream.kernel("nn/group_norm_backward_apply", {reduceWorkgroup(stream), 1, 1}, {vec4, kChunk}),
                   {xArg, gyArg, gamma, stats, coef, gx}, planePush(s), planeGrid(s));
 }
 

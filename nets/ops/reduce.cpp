@@ -2,13 +2,13 @@
 
 #include <algorithm>
 
+#include "runtime/context.h"
 #include "runtime/error.h"
 
 namespace smokesvd::ops {
 namespace {
 
-constexpr uint32_t kWorkgroupSize = 256;  // a power of two: the shared-memory tree halves it
-constexpr uint64_t kMaxPartials = 256;    // pass 2 runs one workgroup over at most this many partials
+constexpr uint64_t kMaxInvocations = 65536;  // of pass 1; pass 2 runs one workgroup over its partials
 constexpr uint64_t kTexelsPerInvocation = 16;
 
 }  // namespace
@@ -17,10 +17,11 @@ void reduceAll(Stream& stream, Reduction reduction, const Tensor& x, const Tenso
   if (x.numel() == 0) throw Error("reduce: the input tensor " + toString(x.shape()) + " is empty");
   if (out.numel() != 1) throw Error("reduce: the output must hold one element, got " + toString(out.shape()));
   const int32_t isMax = reduction == Reduction::Max ? 1 : 0;
-  const Kernel& kernel = stream.kernel("tensor/reduce", {kWorkgroupSize, 1, 1}, {isMax});
+  // One subgroup per workgroup (a power of two: the shared-memory tree halves it).
+  const uint32_t workgroup = stream.context().info().reductionWorkgroup();
+  const Kernel& kernel = stream.kernel("tensor/reduce", {workgroup, 1, 1}, {isMax});
   const uint64_t texels = (static_cast<uint64_t>(x.numel()) + 3) / 4;
-  const uint64_t groups =
-      std::clamp<uint64_t>(texels / (kWorkgroupSize * kTexelsPerInvocation), 1, kMaxPartials);
+  const uint64_t groups = std::clamp<uint64_t>(texels / (workgroup * kTexelsPerInvocation), 1, kMaxInvocations / workgroup);
   const float meanScale = reduction == Reduction::Mean ? 1.0f / static_cast<float>(x.numel()) : 1.0f;
   struct Push { uint32_t n; float scale; };
 
