@@ -13,7 +13,6 @@ namespace {
 
 // 8 lanes along x (the SIMD width of CPU devices), 128 invocations in all.
 constexpr std::array<uint32_t, 3> kWorkgroup{8, 4, 4};
-constexpr uint32_t kScalarWorkgroup = 256;
 
 struct GridPush {
   int32_t x, y, z;
@@ -150,7 +149,9 @@ void scalars(Stream& stream, ScalarStep step, const Tensor& partials, int64_t co
   if (scalars.numel() < kScalarSlots)
     throw Error("pressure scalars: the scalar buffer needs " + std::to_string(kScalarSlots) + " floats");
   requirePartials(partials, step == ScalarStep::Start ? 3 * count : count, "pressure scalars");
-  const Kernel& k = stream.kernel("physics/pressure_scalars", {kScalarWorkgroup, 1, 1}, {static_cast<int32_t>(step)});
+  // One workgroup of one subgroup (DeviceInfo::reductionWorkgroup) reduces every partial.
+  const Kernel& k = stream.kernel("physics/pressure_scalars", {stream.context().info().reductionWorkgroup(), 1, 1},
+                                  {static_cast<int32_t>(step)});
   struct {
     uint32_t n;
     float inverseFluidCells;
