@@ -1,7 +1,10 @@
 // `smokesvd bench [FILTER] [--json]`: times kernels with GPU timestamps (warm-up, then the median of
 // many runs) and prints kernel, shape, median time, GB/s or GFLOP/s, and the device. It first measures
 // the device's reference figures (loop-FMA peak, best kernel copy bandwidth) and gives every figure also
-// as a percentage of its reference, which stays comparable across machines and moments.
+// as a percentage of its reference, which stays comparable across machines and moments. With --passes N
+// the whole selection runs N times and every figure (the references too) keeps its best pass: on a
+// shared machine whose speed drifts from minute to minute, that is the figure of its quiet moments.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -19,6 +22,7 @@ struct BenchArguments {
   bool json = false;
   bool list = false;
   bool reference = true;
+  int passes = 1;
   bench::BenchOptions options;
 };
 
@@ -42,6 +46,60 @@ void printTable(const std::vector<bench::Measurement>& results, const bench::Dev
   }
 }
 
+struct Results {
+  std::vector<std::vector<bench::Measurement>> groups;  // one per benchmark, in order
+  bench::DeviceReference reference;                     // the best reading of each
+};
+
+bench::DeviceReference best(const bench::DeviceReference& a, const bench::DeviceReference& b) {
+  return {std::max(a.peakGflops, b.peakGflops), std::max(a.bandwidthGbps, b.bandwidthGbps)};
+}
+
+// Runs the selection `args.passes` times, the references before and after each pass; keeps the fastest
+// median of every measurement and the best reference reading.
+Results runPasses(Context& context, const std::vector<const bench::Benchmark*>& selected, const BenchArguments& args) {
+  Results results;
+  for (int pass = 0; pass < args.passes; ++pass) {
+    if (args.reference) results.reference = best(results.reference, bench::measureDeviceReference(context, args.options));
+    bench::BenchContext bench(context, args.options);
+    for (std::size_t b = 0; b < selected.size(); ++b) {
+      const std::size_t first = bench.results().size();
+      selected[b]->run(bench);
+      const std::vector<bench::Measurement> group(bench.results().begin() + static_cast<std::ptrdiff_t>(first),
+                                                  bench.results().end());
+      if (pass == 0) {
+        results.groups.push_back(group);
+        continue;
+      }
+      std::vector<bench::Measurement>& kept = results.groups[b];
+      for (std::size_t m = 0; m < group.size() && m < kept.size(); ++m)
+        if (group[m].medianNs < kept[m].medianNs) kept[m] = group[m];
+    }
+    if (args.reference) results.reference = best(results.reference, bench::measureDeviceReference(context, args.options));
+    if (!args.json && args.passes > 1) std::fprintf(stderr, "bench: pass %d of %d done\n", pass + 1, args.passes);
+  }
+  return results;
+}
+
+void printJson(const Context& context, const Results& results) {
+  const bench::DeviceReference& reference = results.reference;
+  nlohmann::json list = nlohmann::json::array();
+  for (const std::vector<bench::Measurement>& group : results.groups)
+    for (const bench::Measurement& m : group)
+      list.push_back({{"kernel", m.name}, {"shape", m.shape}, {"median_ns", m.medianNs}, {"runs", m.runs},
+                      {"bytes", m.bytes}, {"flops", m.flops}, {"gb_per_s", m.gbPerSecond()},
+                      {"gflop_per_s", m.gflopPerSecond()},
+                      {"percent_of_copy", percent(m.gbPerSecond(), reference.bandwidthGbps)},
+                      {"percent_of_peak", percent(m.gflopPerSecond(), reference.peakGflops)}});
+  std::cout << nlohmann::json{{"device", context.info().name}, {"driver", context.info().driver},
+                              {"device_type", context.info().typeName()},
+                              {"reference", {{"peak_gflop_per_s", reference.peakGflops},
+                                             {"copy_gb_per_s", reference.bandwidthGbps}}},
+                              {"results", list}}
+                   .dump(2)
+            << "\n";
+}
+
 void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action) {
   static BenchArguments args;
   CLI::App* command = app.add_subcommand("bench", "time kernels on the device (GPU timestamps, median of runs)");
@@ -50,6 +108,8 @@ void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action)
   command->add_flag("--list", args.list, "list benchmark names and exit");
   command->add_option("--runs", args.options.runs, "timed runs per kernel (median is reported)")->check(CLI::PositiveNumber);
   command->add_option("--warmup", args.options.warmup, "untimed runs before timing")->check(CLI::NonNegativeNumber);
+  command->add_option("--passes", args.passes, "run everything this many times and keep each figure's best pass")
+      ->check(CLI::PositiveNumber);
   command->add_flag("!--no-reference", args.reference,
                     "skip measuring the reference figures (loop-FMA peak, copy bandwidth) and the % columns");
   command->callback([&global, &action] {
@@ -63,47 +123,17 @@ void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action)
         if (b.name.find(args.filter) != std::string::npos) selected.push_back(&b);
       if (selected.empty()) throw Error("bench: no benchmark matches '" + args.filter + "' (see smokesvd bench --list)");
       Context context(global.contextOptions());
-      bench::BenchContext bench(context, args.options);
-      if (!args.json) std::cout << "device: " << context.info().name << " (" << context.info().driver << ")\n";
-      // The reference is measured before and after the benchmarks and averaged: on a shared machine the
-      // speed drifts during a long run, and a single reading would skew every percentage.
-      const bench::DeviceReference before =
-          args.reference ? bench::measureDeviceReference(context, args.options) : bench::DeviceReference{};
-      std::vector<std::vector<bench::Measurement>> groups;
-      for (const bench::Benchmark* b : selected) {
-        const std::size_t first = bench.results().size();
-        b->run(bench);
-        groups.emplace_back(bench.results().begin() + static_cast<std::ptrdiff_t>(first), bench.results().end());
-      }
-      const bench::DeviceReference after =
-          args.reference ? bench::measureDeviceReference(context, args.options) : bench::DeviceReference{};
-      const bench::DeviceReference reference{(before.peakGflops + after.peakGflops) / 2,
-                                             (before.bandwidthGbps + after.bandwidthGbps) / 2};
-      if (!args.json) {
-        if (args.reference)
-          std::printf("reference (mean of before/after): loop-FMA peak %.2f GFLOP/s (%.2f/%.2f), kernel copy %.2f GB/s "
-                      "(%.2f/%.2f)\n",
-                      reference.peakGflops, before.peakGflops, after.peakGflops, reference.bandwidthGbps,
-                      before.bandwidthGbps, after.bandwidthGbps);
-        for (const std::vector<bench::Measurement>& group : groups) printTable(group, reference);
-      }
+      if (!args.json) std::cout << "device: " << context.info().name << " (" << context.info().driver << ")" << std::endl;
+      const Results results = runPasses(context, selected, args);
       if (args.json) {
-        nlohmann::json results = nlohmann::json::array();
-        for (const bench::Measurement& m : bench.results()) {
-          results.push_back({{"kernel", m.name}, {"shape", m.shape}, {"median_ns", m.medianNs}, {"runs", m.runs},
-                             {"bytes", m.bytes}, {"flops", m.flops}, {"gb_per_s", m.gbPerSecond()},
-                             {"gflop_per_s", m.gflopPerSecond()},
-                             {"percent_of_copy", percent(m.gbPerSecond(), reference.bandwidthGbps)},
-                             {"percent_of_peak", percent(m.gflopPerSecond(), reference.peakGflops)}});
-        }
-        std::cout << nlohmann::json{{"device", context.info().name}, {"driver", context.info().driver},
-                                    {"device_type", context.info().typeName()},
-                                    {"reference", {{"peak_gflop_per_s", reference.peakGflops},
-                                                   {"copy_gb_per_s", reference.bandwidthGbps}}},
-                                    {"results", results}}
-                         .dump(2)
-                  << "\n";
+        printJson(context, results);
+        return;
       }
+      if (args.reference)
+        std::printf("reference (best reading): loop-FMA peak %.2f GFLOP/s, kernel copy %.2f GB/s\n",
+                    results.reference.peakGflops, results.reference.bandwidthGbps);
+      if (args.passes > 1) std::printf("each figure is the best of %d passes\n", args.passes);
+      for (const std::vector<bench::Measurement>& group : results.groups) printTable(group, results.reference);
     };
   });
 }
