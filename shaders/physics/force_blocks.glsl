@@ -21,20 +21,6 @@ Lower lower_neighbours(samplerBuffer v, int t, vec4 centre, ivec3 b, ivec3 block
   return l;
 }
 
-// The six neighbours of the block at texel t (any plane), 0 past the grid (multigrid_blocks.glsl's
-// Neighbours).
-Neighbours neighbours_at(samplerBuffer v, int t, vec4 centre, ivec3 b, ivec3 blocks) {
-  const int row = blocks.x, slice = blocks.x * blocks.y;
-  Neighbours n;
-  n.left = vec4(b.x > 0 ? texelFetch(v, t - 1).w : 0.0, centre.xyz);
-  n.right = vec4(centre.yzw, b.x < blocks.x - 1 ? texelFetch(v, t + 1).x : 0.0);
-  n.down = b.y > 0 ? texelFetch(v, t - row) : vec4(0.0);
-  n.up = b.y < blocks.y - 1 ? texelFetch(v, t + row) : vec4(0.0);
-  n.back = b.z > 0 ? texelFetch(v, t - slice) : vec4(0.0);
-  n.front = b.z < blocks.z - 1 ? texelFetch(v, t + slice) : vec4(0.0);
-  return n;
-}
-
 vec4 obstacle_lanes(vec4 flags) { return vec4((uvec4(flags) & uvec4(FLAG_OBSTACLE)) >> 1u); }
 vec4 fluid_flag_lanes(vec4 flags) { return vec4(uvec4(flags) & uvec4(FLAG_FLUID)); }
 // 1 where the face between cells with flags c and m takes a force (force_faces.glsl), else 0.

@@ -14,13 +14,14 @@ ivec3 dispatch_block() { return ivec3(gl_GlobalInvocationID); }
 bool block_in_grid(ivec3 b, ivec3 blocks) { return all(lessThan(b, blocks)); }
 int block_index(ivec3 b, ivec3 blocks) { return b.x + blocks.x * (b.y + blocks.y * b.z); }
 
-// The six neighbours' values of the block's four cells, 0 outside the padded grid.
+// The six neighbours' values of a block's four cells.
 struct Neighbours {
   vec4 left, right, down, up, back, front;
 };
 
-Neighbours neighbours(samplerBuffer v, vec4 centre, ivec3 b, ivec3 blocks) {
-  const int t = block_index(b, blocks);
+// The six neighbours' values of the block at texel t (of any plane: t may be offset by whole planes),
+// 0 outside the padded grid.
+Neighbours neighbours_at(samplerBuffer v, int t, vec4 centre, ivec3 b, ivec3 blocks) {
   const int row = blocks.x, slice = blocks.x * blocks.y;
   Neighbours n;
   n.left = vec4(b.x > 0 ? texelFetch(v, t - 1).w : 0.0, centre.xyz);
@@ -30,6 +31,11 @@ Neighbours neighbours(samplerBuffer v, vec4 centre, ivec3 b, ivec3 blocks) {
   n.back = b.z > 0 ? texelFetch(v, t - slice) : vec4(0.0);
   n.front = b.z < blocks.z - 1 ? texelFetch(v, t + slice) : vec4(0.0);
   return n;
+}
+
+// The same for the block's own texel of a one-plane field.
+Neighbours neighbours(samplerBuffer v, vec4 centre, ivec3 b, ivec3 blocks) {
+  return neighbours_at(v, block_index(b, blocks), centre, b, blocks);
 }
 
 vec4 neighbour_sum(Neighbours n) { return (n.left + n.right) + (n.down + n.up) + (n.back + n.front); }
