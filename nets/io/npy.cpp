@@ -3,6 +3,7 @@
 #include <zip.h>
 
 #include <cstring>
+#include <ctime>
 #include <fstream>
 #include <memory>
 #include <regex>
@@ -200,6 +201,9 @@ NpyArray readNpzMember(const std::filesystem::path& path, const std::string& key
   return parseNpy(readMember(archive.get(), static_cast<zip_uint64_t>(index), source), source);
 }
 
+// 1980-01-01 00:00:00 UTC, the earliest time a zip entry can hold.
+constexpr time_t kFixedModificationTime = 315532800;
+
 void writeNpz(const std::filesystem::path& path, const std::map<std::string, NpyArray>& arrays, bool compress) {
   writeAtomically(path, [&](const std::filesystem::path& temporary) {
     int error = 0;
@@ -217,6 +221,8 @@ void writeNpz(const std::filesystem::path& path, const std::map<std::string, Npy
         throw Error(path.string() + ": cannot add array '" + key + "': " + zip_strerror(archive));
       }
       zip_set_file_compression(archive, static_cast<zip_uint64_t>(index), compress ? ZIP_CM_DEFLATE : ZIP_CM_STORE, 1);
+      // A fixed time stamp: the same arrays give the same bytes, so reruns of a seeded scene compare equal.
+      zip_file_set_mtime(archive, static_cast<zip_uint64_t>(index), kFixedModificationTime, 0);
     }
     if (zip_close(guard.get()) != 0) throw Error(path.string() + ": writing .npz failed: " + zip_strerror(guard.get()));
     guard.release();
