@@ -116,10 +116,11 @@ VkDeviceSize BufferPool::sizeClass(VkDeviceSize bytes) {
 }
 
 std::shared_ptr<Buffer> BufferPool::acquire(VkDeviceSize bytes, std::string_view what) {
-  const uint64_t limit = context_.info().maxStorageBufferRange;
+  const uint64_t limit = context_.info().maxTensorBytes();
   if (bytes > limit) {
     throw Error(std::string(what) + " needs " + mebibytes(bytes) + ", more than the " + mebibytes(limit) +
-                " one storage buffer may span on '" + context_.info().name + "'");
+                " one tensor may span on '" + context_.info().name +
+                "' (its storage-buffer range and texel-buffer size)");
   }
   const VkDeviceSize capacity = sizeClass(bytes);
   std::unique_ptr<Buffer> buffer;

@@ -93,6 +93,10 @@ uint32_t DeviceInfo::reductionWorkgroup() const {
   return std::clamp(std::bit_floor(std::max(subgroupSize, 1u)), 8u, 256u);
 }
 
+uint64_t DeviceInfo::maxTensorBytes() const {
+  return std::min<uint64_t>(maxStorageBufferRange, uint64_t{4} * maxTexelBufferElements);
+}
+
 int DeviceInfo::preferenceRank() const {
   switch (type) {
     case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;

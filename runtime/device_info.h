@@ -37,6 +37,10 @@ struct DeviceInfo {
   // workgroup is a context switch; with one subgroup GroupNorm ran 1.6x faster on lavapipe than with
   // 64 invocations (docs/runtime.md). GPUs run such workgroups as one full warp or wave.
   uint32_t reductionWorkgroup() const;
+  // The largest tensor the runtime accepts, in bytes: one storage-buffer binding must span it (writes) and
+  // a float texel view must reach every element (reads), so min(maxStorageBufferRange,
+  // 4 · maxTexelBufferElements): 128 MiB on lavapipe, 512 MiB on NVIDIA GPUs.
+  uint64_t maxTensorBytes() const;
   // Lower is preferred: discrete GPU, integrated GPU, virtual GPU, CPU, other.
   int preferenceRank() const;
 };

@@ -5,6 +5,7 @@
 
 #include "nets/ops/conv_geometry.h"
 #include "nets/ops/conv_kernels.h"
+#include "runtime/context.h"
 #include "runtime/error.h"
 
 namespace smokesvd::ops {
@@ -29,7 +30,7 @@ int64_t taps(const Int3& kernel) { return kernel[0] * kernel[1] * kernel[2]; }
 // y = conv(x, w) + b: pad x, pack w as [C, k..., K], one direct pass with the conv's stride.
 void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& w, const Tensor* bias,
              const Tensor& y, ConvBlocking blocking) {
-  const ConvBlocking chosen = conv::directBlocking(blocking, g.output[2], g.kernel[0]);
+  const ConvBlocking chosen = conv::directBlocking(stream.context().info(), blocking, g.output[2], g.kernel[0]);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t xBlocks = (g.output[2] + pixels - 1) / pixels;
   const Int3 size{(g.output[0] - 1) * g.stride + g.kernel[0], (g.output[1] - 1) * g.stride + g.kernel[1],
@@ -68,7 +69,7 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
     if (axis == 2)
       for (const conv::Phase& p : phases[axis]) widest = std::max(widest, p.count);
   }
-  const ConvBlocking chosen = conv::directBlocking(blocking, widest, g.kernel[0]);
+  const ConvBlocking chosen = conv::directBlocking(stream.context().info(), blocking, widest, g.kernel[0]);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   for (std::size_t axis = 0; axis < 3; ++axis) {
     size[axis] = 1;
@@ -115,7 +116,7 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
 
 void weightGradient(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& dy, const Tensor& dw,
                     ConvBlocking blocking) {
-  const ConvBlocking chosen = conv::weightGradBlocking(blocking, g.output[2], g.outChannels);
+  const ConvBlocking chosen = conv::weightGradBlocking(stream.context().info(), blocking, g.output[2], g.outChannels);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t paddedWidth = conv::roundUp(g.output[2], pixels);
   const Int3 size{(g.output[0] - 1) * g.stride + g.kernel[0], (g.output[1] - 1) * g.stride + g.kernel[1],

@@ -4,6 +4,7 @@
 #include <bit>
 #include <string>
 
+#include "runtime/context.h"
 #include "runtime/error.h"
 
 namespace smokesvd::ops::conv {
@@ -20,6 +21,20 @@ constexpr uint32_t kWeightGradWorkgroup = 16;  // lanes along (input channel, kz
 // invocations run; the bias gradient sums chunks of this many positions per invocation.
 constexpr int64_t kWeightGradInvocations = 2048;
 constexpr int64_t kBiasChunk = 2048;
+
+// Register blocks by device class, the best of the conv-blocking sweep on each (docs/convolution.md). A
+// CPU device runs a few invocations per core, so long pixel rows win for the direct pass; a GPU needs
+// many invocations in flight, so shorter rows win there, while its weight gradient gains from wider
+// channel blocks (fewer invocations per chunk, so the row reduction is split into more chunks).
+struct DeviceDefaults {
+  int directPixels2d, directPixels3d, weightGradPixels, weightGradChannelVec4s;
+};
+constexpr DeviceDefaults kCpuDefaults{8, 16, 4, 2};  // lavapipe
+constexpr DeviceDefaults kGpuDefaults{4, 8, 8, 4};   // NVIDIA H100
+
+const DeviceDefaults& defaultsFor(const DeviceInfo& device) {
+  return device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuDefaults : kGpuDefaults;
+}
 
 int32_t i32(int64_t value) { return static_cast<int32_t>(value); }
 
@@ -52,18 +67,21 @@ int fitPixels(int pixels, int64_t width) {
 
 int64_t roundUp(int64_t value, int64_t multiple) { return (value + multiple - 1) / multiple * multiple; }
 
-ConvBlocking directBlocking(ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth) {
+ConvBlocking directBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth) {
   requireBlocking(requested);
-  // Measured on lavapipe (docs/convolution.md): 8 pixels x 4 channels for 2D kernels, 16 x 4 for 3D.
-  const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(kernelDepth > 1 ? 16 : 8, gridWidth);
+  const DeviceDefaults& d = defaultsFor(device);
+  const int pixels = requested.pixels != 0 ? requested.pixels
+                                           : fitPixels(kernelDepth > 1 ? d.directPixels3d : d.directPixels2d, gridWidth);
   return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : 1};
 }
 
-ConvBlocking weightGradBlocking(ConvBlocking requested, int64_t outWidth, int64_t outChannels) {
+ConvBlocking weightGradBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t outWidth,
+                                int64_t outChannels) {
   requireBlocking(requested);
-  // Measured on lavapipe: 4 pixels x 8 channels (72 accumulators for a 3x3 kernel).
-  const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(4, outWidth);
-  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : (outChannels <= 4 ? 1 : 2)};
+  const DeviceDefaults& d = defaultsFor(device);
+  const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(d.weightGradPixels, outWidth);
+  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s
+                                              : std::min<int>(d.weightGradChannelVec4s, static_cast<int>((outChannels + 3) / 4))};
 }
 
 Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size) {

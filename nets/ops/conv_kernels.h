@@ -3,15 +3,17 @@
 #pragma once
 
 #include "nets/ops/conv_geometry.h"
+#include "runtime/device_info.h"
 #include "runtime/stream.h"
 #include "runtime/tensor.h"
 
 namespace smokesvd::ops::conv {
 
-// Block sizes actually used: the request with every 0 replaced by the default for the shape. Throws
-// Error for a request out of range.
-ConvBlocking directBlocking(ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth);
-ConvBlocking weightGradBlocking(ConvBlocking requested, int64_t outWidth, int64_t outChannels);
+// Block sizes actually used: the request with every 0 replaced by the default for the shape and the
+// device class (CPU or GPU). Throws Error for a request out of range.
+ConvBlocking directBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth);
+ConvBlocking weightGradBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t outWidth,
+                                int64_t outChannels);
 int64_t roundUp(int64_t value, int64_t multiple);
 
 // A zero-padded copy [N, C, size] of an [N, C, D, H, W] tensor placed at `low`; size[2] is rounded up to

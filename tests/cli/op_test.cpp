@@ -2,6 +2,8 @@
 
 #include <filesystem>
 
+#include <nlohmann/json.hpp>
+
 #include "nets/io/npy.h"
 #include "tests/harness/command.h"
 
@@ -69,8 +71,15 @@ namespace smokesvd::testing {
 namespace {
 
 TEST_F(OpCommand, OversizedTensorIsAOneLineError) {
-  // One float more than lavapipe's 128 MiB storage-buffer range.
-  const int64_t elements = (int64_t{128} << 20) / 4 + 1;
+  // One float more than the device's largest tensor (128 MiB on lavapipe, 512 MiB on NVIDIA GPUs).
+  const CommandResult info = runSmokesvd("info --json");
+  ASSERT_EQ(info.exitCode, 0) << info.err;
+  int64_t maxBytes = 0;
+  const nlohmann::json devices = nlohmann::json::parse(info.out).at("devices");
+  for (const auto& device : devices)
+    if (device.at("chosen").get<bool>()) maxBytes = device.at("max_tensor_bytes").get<int64_t>();
+  ASSERT_GT(maxBytes, 0) << info.out;
+  const int64_t elements = maxBytes / 4 + 1;
   io::writeNpy(dir_ / "big.npy", io::NpyArray::fromFloats({elements}, std::vector<float>(elements, 1.0f)));
   const CommandResult result = runSmokesvd("op scale --attr alpha=2 --in x=" + file("big.npy") + " --out y=" + file("y.npy"));
   EXPECT_NE(result.exitCode, 0);

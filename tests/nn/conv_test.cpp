@@ -1,5 +1,5 @@
-// Convolution kernels against plain CPU references in double: forward on odd shapes (every blocking
-// gives the same result), backward passes against central finite differences on tiny shapes and against
+// Convolution kernels against plain CPU references in double: forward and weight gradient on odd shapes
+// (every blocking gives the same result), backward passes against central finite differences on tiny shapes and against
 // the analytic references on shapes large enough to exercise the register-blocked paths with tails.
 #include <gtest/gtest.h>
 
@@ -153,6 +153,26 @@ TEST_F(ConvTest, EveryBlockingGivesTheSameForward) {
   const std::initializer_list<ops::ConvBlocking> blockings{{1, 1}, {3, 3}, {8, 4}, {16, 1}};
   checkForward(Case{{2, 5, 6, 11}, {7, 5, 3, 3}, {1, 1}, true}, false, blockings);
   checkForward(Case{{1, 3, 5, 4, 9}, {5, 3, 3, 3, 3}, {2, 1}}, false, blockings);
+}
+
+TEST_F(ConvTest, EveryBlockingGivesTheSameWeightGradient) {
+  // Includes the CPU default (4 pixels x 2 vec4s) and the GPU default (8 x 4).
+  for (const Case& c : {Case{{2, 5, 6, 11}, {9, 5, 3, 3}, {1, 1}}, Case{{1, 3, 5, 4, 9}, {10, 3, 3, 3, 3}, {2, 1}}}) {
+    const Operand x = operand(context(), c.x, 10);
+    const Shape yShape = referenceConvOutputShape(c.x, c.w, c.spec);
+    const Operand dy = operand(context(), yShape, 11);
+    const std::vector<double> expected = convWeightGradReference(x.values, c.x, dy.values, c.w, c.spec);
+    for (const ops::ConvBlocking blocking :
+         {ops::ConvBlocking{1, 1}, ops::ConvBlocking{3, 3}, ops::ConvBlocking{4, 2}, ops::ConvBlocking{8, 4},
+          ops::ConvBlocking{16, 1}}) {
+      Tensor dw = poisonedTensor(context(), c.w);
+      Stream stream(context());
+      ops::convBackwardWeight(stream, x.tensor, dy.tensor, params(c.spec), dw, blocking);
+      stream.submit();
+      EXPECT_TRUE(allClose(dw, expected, kTolerance))
+          << describe(c) << " blocking " << blocking.pixels << "x" << blocking.channelVec4s;
+    }
+  }
 }
 
 TEST_F(ConvTest, ForwardLargerShapesWithTails) {

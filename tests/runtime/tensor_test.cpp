@@ -38,7 +38,7 @@ TEST_F(TensorTest, UploadOfWrongSizeIsAnError) {
 }
 
 TEST_F(TensorTest, OversizedTensorIsAClearError) {
-  const uint64_t limit = context().info().maxStorageBufferRange;
+  const uint64_t limit = context().info().maxTensorBytes();
   const int64_t elements = static_cast<int64_t>(limit / sizeof(float)) + 1;
   try {
     Tensor tensor(context(), {elements});
@@ -46,7 +46,7 @@ TEST_F(TensorTest, OversizedTensorIsAClearError) {
   } catch (const Error& error) {
     const std::string message = error.what();
     EXPECT_NE(message.find("tensor [" + std::to_string(elements) + "]"), std::string::npos) << message;
-    EXPECT_NE(message.find("storage buffer"), std::string::npos) << message;
+    EXPECT_NE(message.find("storage-buffer range and texel-buffer size"), std::string::npos) << message;
   }
 }
 

@@ -17,6 +17,7 @@ nlohmann::json toJson(const DeviceInfo& d, bool chosen) {
   return {{"index", d.index}, {"name", d.name}, {"type", d.typeName()}, {"chosen", chosen},
           {"api_version", version(d.apiVersion)}, {"driver", d.driver},
           {"max_storage_buffer_range", d.maxStorageBufferRange}, {"max_texel_buffer_elements", d.maxTexelBufferElements},
+          {"max_tensor_bytes", d.maxTensorBytes()},
           {"max_shared_memory", d.maxSharedMemoryBytes}, {"max_workgroup_invocations", d.maxWorkgroupInvocations},
           {"subgroup_size", d.subgroupSize}, {"device_local_bytes", d.deviceLocalBytes},
           {"unified_memory", d.unifiedMemory}, {"float16", d.float16}, {"float32_atomic_add", d.float32AtomicAdd},
@@ -28,7 +29,8 @@ void printDevice(const DeviceInfo& d, bool chosen) {
   auto yes = [](bool value) { return value ? "yes" : "no"; };
   std::cout << (chosen ? "* " : "  ") << d.index << ": " << d.name << " (" << d.typeName() << ", Vulkan "
             << version(d.apiVersion) << ", " << d.driver << ")\n"
-            << "      storage buffer range " << mib(d.maxStorageBufferRange) << ", texel buffer "
+            << "      largest tensor " << mib(d.maxTensorBytes()) << ", storage buffer range "
+            << mib(d.maxStorageBufferRange) << ", texel buffer "
             << d.maxTexelBufferElements << " elements, shared memory " << d.maxSharedMemoryBytes / 1024
             << " KiB, workgroup " << d.maxWorkgroupInvocations << " invocations, subgroup " << d.subgroupSize << "\n"
             << "      device-local memory " << mib(d.deviceLocalBytes) << (d.unifiedMemory ? " (unified)" : "")
