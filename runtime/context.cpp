@@ -102,6 +102,7 @@ Context::Context(ContextOptions options)
     }
     std::vector<DeviceInfo> devices = queryDevices(instance_);
     info_ = chooseDevice(devices, deviceRequest(options));
+    if (options.emulateFloatAtomics) info_.float32AtomicAdd = false;
     if (!info_.pushDescriptor)
       throw Error("device '" + info_.name + "' lacks VK_KHR_push_descriptor, which smokesvd requires");
 

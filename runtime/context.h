@@ -27,6 +27,9 @@ struct ContextOptions {
   bool validation = false;
   // Move data through staging buffers even where memory is unified, as on a discrete GPU (tests that path).
   bool forceStaging = false;
+  // Treat the device as lacking float32 atomic add, so that scattering kernels use their
+  // compare-and-swap variants (tests that path); info().float32AtomicAdd then reads false.
+  bool emulateFloatAtomics = false;
 };
 
 class Context {

@@ -1,11 +1,16 @@
-// Kernels that scatter gradients use float32 atomic adds on storage buffers (VK_EXT_shader_atomic_float).
+// Kernels that scatter gradients add floats atomically: with float32 atomic add
+// (VK_EXT_shader_atomic_float) where the device has it, otherwise with compare-and-swap loops that every
+// Vulkan device runs (shaders/common/float_atomic_add.glsl). Each such kernel is built both ways.
 #pragma once
+
+#include <string>
 
 #include "runtime/context.h"
 
 namespace smokesvd::render {
 
-// Throws Error naming `operation` and the device if the device lacks float32 atomic adds.
-void requireFloatAtomics(const Context& context, const char* operation);
+// The name of the variant of scattering kernel `shader` (e.g. "render/lift_adjoint") for this device:
+// the shader itself, or its "_cas" variant without float atomics.
+std::string scatterKernel(const Context& context, const std::string& shader);
 
 }  // namespace smokesvd::render

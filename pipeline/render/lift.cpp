@@ -41,9 +41,8 @@ void lift(Stream& stream, const Tensor& images, const ViewSet& views, const Grid
 void liftBackward(Stream& stream, const Tensor& gradLifted, const ViewSet& views, const GridSize& grid,
                   const Tensor& gradImages) {
   checkShapes("lift backward", gradImages, gradLifted, views, grid);
-  requireFloatAtomics(stream.context(), "lift backward");
   stream.fillZero(gradImages);
-  stream.dispatchFlat(stream.kernel("render/lift_adjoint", kWorkgroup), {gradLifted, asVec4(views.table), gradImages},
+  stream.dispatchFlat(stream.kernel(scatterKernel(stream.context(), "render/lift_adjoint"), kWorkgroup), {gradLifted, asVec4(views.table), gradImages},
                       liftPush(grid, views), static_cast<uint64_t>(gradLifted.numel()));
 }
 

@@ -110,7 +110,6 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
                     const RenderSettings& settings, const Tensor& images, const Tensor& gradImages,
                     const Tensor& gradDensity) {
   validate(settings);
-  requireFloatAtomics(stream.context(), "render backward");
   const GridSize grid = volumeGrid(density, "render density");
   requireShape(images, imageShape(views), "the forward images");
   requireShape(gradImages, imageShape(views), "the image gradient");
@@ -121,7 +120,7 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
   if (!settings.light) {
     stream.fillZero(gradDensity);
     const Tensor unusedShadowGradient(stream.context(), {1});
-    stream.dispatchFlat(stream.kernel("render/march_adjoint", kWorkgroup, {0}),
+    stream.dispatchFlat(stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {0}),
                         {density, density, asVec4(views.table), images, gradImages, gradDensity, unusedShadowGradient},
                         push, static_cast<uint64_t>(images.numel()));
     return;
@@ -131,7 +130,7 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
   Tensor gradShadow(stream.context(), volumeShape(grid));
   stream.fillZero(direct);
   stream.fillZero(gradShadow);
-  stream.dispatchFlat(stream.kernel("render/march_adjoint", kWorkgroup, {1}),
+  stream.dispatchFlat(stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {1}),
                       {density, shadowVolume, asVec4(views.table), images, gradImages, direct, gradShadow}, push,
                       static_cast<uint64_t>(images.numel()));
   stream.dispatchFlat(stream.kernel("render/light_transmittance_adjoint", kWorkgroup),

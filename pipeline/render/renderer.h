@@ -15,7 +15,7 @@
 // row 0 at the top; the background is black. Lengths are grid units (voxels).
 //
 // Gradients: renderBackward gives the exact d loss / d density, including the path through the shadow.
-// It scatters with float atomics (Context::info().float32AtomicAdd; lavapipe and NVIDIA have them).
+// It scatters with float atomics, or compare-and-swap loops on devices without them (render/atomics.h).
 #pragma once
 
 #include <optional>

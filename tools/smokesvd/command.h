@@ -18,8 +18,9 @@ namespace smokesvd::cli {
 // Options every subcommand shares.
 struct GlobalOptions {
   std::string device;       // --device N|NAME (else SMOKESVD_DEVICE, else the best device)
-  bool validation = false;  // --validation
-  ContextOptions contextOptions() const { return {device, validation, false}; }
+  bool validation = false;      // --validation
+  bool noFloatAtomics = false;  // --no-float-atomics
+  ContextOptions contextOptions() const { return {device, validation, false, noFloatAtomics}; }
 };
 
 using Action = std::function<void()>;

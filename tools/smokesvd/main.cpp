@@ -12,6 +12,8 @@ int main(int argc, char** argv) {
   cli::GlobalOptions global;
   app.add_option("--device", global.device, "Vulkan device: index or name substring (default: best; env SMOKESVD_DEVICE)");
   app.add_flag("--validation", global.validation, "enable the Khronos validation layer (env SMOKESVD_VALIDATION=1)");
+  app.add_flag("--no-float-atomics", global.noFloatAtomics,
+               "scatter gradients with compare-and-swap loops, as on a device without float32 atomic add");
   cli::Action action;
   for (const cli::Command& command : cli::commands()) command.add(app, global, action);
   try {

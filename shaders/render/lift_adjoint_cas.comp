@@ -1,0 +1,4 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// lift_adjoint.glsl with compare-and-swap loops, for devices without float atomics.
+#include "lift_adjoint.glsl"

@@ -1,0 +1,85 @@
+// Exact adjoint of march.comp (one invocation per pixel), given the forward image I and g = dL/dimage.
+// The march is recomputed front to back, so nothing per sample is stored:
+//   R_k = I - sum_{j <= k} T_j a_j S_j                  radiance that reaches the camera from behind sample k
+//   dI/dsigma_k = absorption * step * (T_{k+1} S_k - R_k)
+//   dI/dS_k     = T_k a_k
+// and the sample gradients are scattered with the trilinear weights of p_k (float atomics):
+//   grad_density[corner]       += g * dI/dsigma_k * w_corner        (zero padding)
+//   grad_transmittance[corner] += g * intensity * dI/dS_k * w_corner (clamped lookup; LIGHT only)
+// A gather would need every sample's gradient stored ([views, samples, H, W]), hence the scatter.
+#include "float_atomic_add.glsl"
+#include "index.glsl"
+#include "sampling.glsl"
+#include "camera.glsl"
+layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
+layout(constant_id = 3) const int LIGHT = 0;
+
+layout(binding = 0) uniform samplerBuffer density;
+layout(binding = 1) uniform samplerBuffer light_transmittance;
+layout(binding = 2) uniform samplerBuffer cameras;
+layout(binding = 3) uniform samplerBuffer image;
+layout(binding = 4) uniform samplerBuffer grad_image;
+layout(std430, binding = 5) buffer GradDensity { float_atomic_t grad_density[]; };
+layout(std430, binding = 6) buffer GradTransmittance { float_atomic_t grad_transmittance[]; };  // any tensor without LIGHT
+layout(push_constant) uniform Push {
+  int width, height, depth;
+  int image_width, image_height, views;
+  float step_length;
+  float absorption;
+  float ambient;
+  float intensity;
+};
+
+void scatter_density(ivec3 size, vec3 p, float value) {
+  ivec3 base;
+  vec3 f;
+  trilinear_corners(p, base, f);
+  for (int corner = 0; corner < 8; ++corner) {
+    const ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+    const ivec3 v = base + offset;
+    if (voxel_inside(v, size)) float_atomic_add(grad_density, voxel_index(v, size), corner_weight(offset, f) * value);
+  }
+}
+
+void scatter_transmittance(ivec3 size, vec3 p, float value) {
+  ivec3 base;
+  vec3 f;
+  trilinear_corners(clamp_to_centres(p, size), base, f);
+  for (int corner = 0; corner < 8; ++corner) {
+    const ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
+    const float w = corner_weight(offset, f);
+    if (w != 0.0) float_atomic_add(grad_transmittance, voxel_index(clamped_voxel(base + offset, size), size), w * value);
+  }
+}
+
+void main() {
+  const uint item = flat_index();
+  if (item >= uint(views * image_height * image_width)) return;
+  const float g = texelFetch(grad_image, int(item)).x;
+  if (g == 0.0) return;
+  const int column = int(item) % image_width;
+  const int row = (int(item) / image_width) % image_height;
+  const int view = int(item) / (image_width * image_height);
+  const ivec3 size = ivec3(width, height, depth);
+
+  vec3 origin, direction;
+  camera_ray(cameras, view, vec2(column, row) + 0.5, origin, direction);
+  const vec2 span = ray_box(origin, direction, vec3(-0.5), vec3(size) + 0.5);
+  const float total = texelFetch(image, int(item)).x;
+  float accumulated = 0.0;
+  float transmittance = 1.0;
+  for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
+    const vec3 p = origin + t * direction;
+    const float sigma = sample_zero(density, size, p);
+    const float shadow = LIGHT != 0 ? sample_clamped(light_transmittance, size, p) : 0.0;
+    const float source = ambient + intensity * shadow;
+    const float alpha = 1.0 - exp(-absorption * sigma * step_length);
+    const float emitted = transmittance * alpha;
+    accumulated += emitted * source;
+    const float next = transmittance * (1.0 - alpha);
+    const float behind = total - accumulated;
+    scatter_density(size, p, g * absorption * step_length * (next * source - behind));
+    if (LIGHT != 0) scatter_transmittance(size, p, g * intensity * emitted);
+    transmittance = next;
+  }
+}
