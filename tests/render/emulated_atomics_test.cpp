@@ -1,15 +1,10 @@
 // The scattering adjoints (render backward, lift backward) on a context that treats the device as lacking
-// float32 atomic add, so their compare-and-swap variants run: against finite differences of the CPU
-// reference, as the float-atomic variants are in renderer_test.cpp and lift_rotate_test.cpp.
+// float32 atomic add, so their compare-and-swap variants run: the same finite-difference checks as the
+// float-atomic variants get in renderer_test.cpp and lift_rotate_test.cpp.
 #include <gtest/gtest.h>
 
-#include "pipeline/render/lift.h"
-#include "pipeline/render/renderer.h"
 #include "runtime/context.h"
-#include "tests/harness/compare.h"
-#include "tests/harness/gradcheck.h"
-#include "tests/harness/random.h"
-#include "tests/render/reference.h"
+#include "tests/render/adjoint_checks.h"
 #include "tests/render/scenes.h"
 
 namespace smokesvd::testing {
@@ -34,47 +29,11 @@ class EmulatedAtomicsTest : public ::testing::Test {
 TEST_F(EmulatedAtomicsTest, ContextReportsNoFloatAtomics) { EXPECT_FALSE(emulated().info().float32AtomicAdd); }
 
 TEST_F(EmulatedAtomicsTest, RenderBackwardMatchesFiniteDifferences) {
-  Context& context = emulated();
-  const GridSize grid{5, 7, 6};
-  const std::vector<Camera> cameras = mixedCameras(grid, 6, 7);
-  for (const render::RenderSettings& s : {unlitSettings(), litSettings()}) {
-    std::vector<float> density, upstream;
-    const Tensor volume = randomTensor(context, {grid.depth, grid.height, grid.width}, 31, 0.0f, 1.5f, &density);
-    const render::ViewSet views = render::uploadViews(context, cameras);
-    const Tensor gradImages = randomTensor(context, {views.views, 1, 7, 6}, 32, -1.0f, 1.0f, &upstream);
-    Tensor images(context, {views.views, 1, 7, 6});
-    Tensor shadow(context, {grid.depth, grid.height, grid.width});
-    Tensor gradDensity = poisonedTensor(context, volume.shape());
-    Stream stream(context);
-    if (s.light) render::lightTransmittance(stream, volume, s, shadow);
-    render::march(stream, volume, s.light ? &shadow : nullptr, views, s, images);
-    render::renderBackward(stream, volume, s.light ? &shadow : nullptr, views, s, images, gradImages, gradDensity);
-    stream.submit();
-    const std::vector<double> expected = numericVjp(
-        [&](std::span<const double> x) { return reference::render({x.begin(), x.end()}, grid, cameras, s); },
-        toDouble(density), toDouble(upstream));
-    EXPECT_TRUE(allClose(gradDensity, expected, {2e-4, 2e-3})) << (s.light ? "lit" : "unlit");
-  }
+  expectRenderBackwardMatchesFiniteDifferences(emulated(), unlitSettings());
+  expectRenderBackwardMatchesFiniteDifferences(emulated(), litSettings());
 }
 
-TEST_F(EmulatedAtomicsTest, LiftBackwardMatchesFiniteDifferences) {
-  Context& context = emulated();
-  const GridSize grid{5, 7, 9};
-  const int width = 8, height = 6;
-  const std::vector<Camera> cameras = mixedCameras(grid, width, height);
-  const render::ViewSet views = render::uploadViews(context, cameras);
-  std::vector<float> images, upstream;
-  randomTensor(context, {views.views, 1, height, width}, 41, -1, 1, &images);
-  const Tensor gradLifted = randomTensor(context, {views.views, grid.depth, grid.height, grid.width}, 42, -1, 1, &upstream);
-  Tensor gradImages = poisonedTensor(context, {views.views, 1, height, width});
-  Stream stream(context);
-  render::liftBackward(stream, gradLifted, views, grid, gradImages);
-  stream.submit();
-  const std::vector<double> expected = numericVjp(
-      [&](std::span<const double> v) { return reference::lift({v.begin(), v.end()}, cameras, grid); },
-      toDouble(images), toDouble(upstream));
-  EXPECT_TRUE(allClose(gradImages, expected, {1e-4, 1e-4}));
-}
+TEST_F(EmulatedAtomicsTest, LiftBackwardMatchesFiniteDifferences) { expectLiftBackwardMatchesFiniteDifferences(emulated()); }
 
 }  // namespace
 }  // namespace smokesvd::testing

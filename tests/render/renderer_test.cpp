@@ -6,6 +6,7 @@
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/gradcheck.h"
 #include "tests/harness/random.h"
+#include "tests/render/adjoint_checks.h"
 #include "tests/render/reference.h"
 #include "tests/render/scenes.h"
 
@@ -39,25 +40,7 @@ TEST_P(RendererTest, ForwardMatchesReference) {
 }
 
 TEST_P(RendererTest, BackwardMatchesFiniteDifferences) {
-  const GridSize grid{5, 7, 6};
-  const std::vector<Camera> cameras = mixedCameras(grid, 6, 7);
-  const render::RenderSettings s = settings();
-  std::vector<float> density, upstream;
-  const Tensor volume = randomTensor(context(), {grid.depth, grid.height, grid.width}, 21, 0.0f, 1.5f, &density);
-  const render::ViewSet views = render::uploadViews(context(), cameras);
-  const Tensor gradImages = randomTensor(context(), {views.views, 1, 7, 6}, 22, -1.0f, 1.0f, &upstream);
-  Tensor images(context(), {views.views, 1, 7, 6});
-  Tensor shadow(context(), {grid.depth, grid.height, grid.width});
-  Tensor gradDensity = poisonedTensor(context(), volume.shape());
-  Stream stream(context());
-  if (s.light) render::lightTransmittance(stream, volume, s, shadow);
-  render::march(stream, volume, s.light ? &shadow : nullptr, views, s, images);
-  render::renderBackward(stream, volume, s.light ? &shadow : nullptr, views, s, images, gradImages, gradDensity);
-  stream.submit();
-  const std::vector<double> expected = numericVjp(
-      [&](std::span<const double> x) { return reference::render({x.begin(), x.end()}, grid, cameras, s); },
-      toDouble(density), toDouble(upstream));
-  EXPECT_TRUE(allClose(gradDensity, expected, {2e-4, 2e-3}));
+  expectRenderBackwardMatchesFiniteDifferences(context(), settings());
 }
 
 INSTANTIATE_TEST_SUITE_P(LightOffOn, RendererTest, ::testing::Bool(),
