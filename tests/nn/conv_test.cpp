@@ -150,7 +150,8 @@ TEST_F(ConvTest, Forward3dOddShapes) {
 }
 
 TEST_F(ConvTest, EveryBlockingGivesTheSameForward) {
-  const std::initializer_list<ops::ConvBlocking> blockings{{1, 1}, {3, 3}, {8, 4}, {16, 1}};
+  // Includes the CPU defaults (8 and 16 pixels x 1 vec4) and the GPU defaults (4 and 8 x 1).
+  const std::initializer_list<ops::ConvBlocking> blockings{{1, 1}, {3, 3}, {4, 1}, {8, 1}, {8, 4}, {16, 1}};
   checkForward(Case{{2, 5, 6, 11}, {7, 5, 3, 3}, {1, 1}, true}, false, blockings);
   checkForward(Case{{1, 3, 5, 4, 9}, {5, 3, 3, 3, 3}, {2, 1}}, false, blockings);
 }
