@@ -67,11 +67,12 @@ int fitPixels(int pixels, int64_t width) {
 
 int64_t roundUp(int64_t value, int64_t multiple) { return (value + multiple - 1) / multiple * multiple; }
 
-ConvBlocking directBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth) {
+ConvBlocking directBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t gridWidth,
+                             int64_t kernelDepth) {
   requireBlocking(requested);
   const DeviceDefaults& d = defaultsFor(device);
-  const int pixels = requested.pixels != 0 ? requested.pixels
-                                           : fitPixels(kernelDepth > 1 ? d.directPixels3d : d.directPixels2d, gridWidth);
+  const int defaultPixels = kernelDepth > 1 ? d.directPixels3d : d.directPixels2d;
+  const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(defaultPixels, gridWidth);
   return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : 1};
 }
 
@@ -80,8 +81,8 @@ ConvBlocking weightGradBlocking(const DeviceInfo& device, ConvBlocking requested
   requireBlocking(requested);
   const DeviceDefaults& d = defaultsFor(device);
   const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(d.weightGradPixels, outWidth);
-  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s
-                                              : std::min<int>(d.weightGradChannelVec4s, static_cast<int>((outChannels + 3) / 4))};
+  const int filled = static_cast<int>((outChannels + 3) / 4);  // vec4s the output channels fill
+  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : std::min(d.weightGradChannelVec4s, filled)};
 }
 
 Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size) {

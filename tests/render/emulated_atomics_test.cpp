@@ -22,7 +22,8 @@ class EmulatedAtomicsTest : public ::testing::Test {
     return context;
   }
   void TearDown() override {
-    for (const std::string& message : emulated().takeValidationMessages()) ADD_FAILURE() << "validation layer: " << message;
+    for (const std::string& message : emulated().takeValidationMessages())
+      ADD_FAILURE() << "validation layer: " << message;
   }
 };
 
@@ -33,7 +34,9 @@ TEST_F(EmulatedAtomicsTest, RenderBackwardMatchesFiniteDifferences) {
   expectRenderBackwardMatchesFiniteDifferences(emulated(), litSettings());
 }
 
-TEST_F(EmulatedAtomicsTest, LiftBackwardMatchesFiniteDifferences) { expectLiftBackwardMatchesFiniteDifferences(emulated()); }
+TEST_F(EmulatedAtomicsTest, LiftBackwardMatchesFiniteDifferences) {
+  expectLiftBackwardMatchesFiniteDifferences(emulated());
+}
 
 }  // namespace
 }  // namespace smokesvd::testing
