@@ -22,7 +22,7 @@ constexpr uint32_t kWeightGradWorkgroup = 16;  // lanes along (input channel, kz
 constexpr int64_t kWeightGradInvocations = 2048;
 constexpr int64_t kBiasChunk = 2048;
 
-// Register blocks by device class, the best of the conv-blocking sweep on each (docs/convolution.md). A
+// Register blocks by device class, chosen from the conv-blocking sweep on each (docs/convolution.md). A
 // CPU device runs a few invocations per core, so long pixel rows win for the direct pass; a GPU needs
 // many invocations in flight, so shorter rows win there, while its weight gradient gains from wider
 // channel blocks (fewer invocations per chunk, so the row reduction is split into more chunks).
