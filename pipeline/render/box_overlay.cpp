@@ -11,7 +11,7 @@ namespace {
 
 using Point = std::array<double, 2>;
 
-void drawDisc(io::Image& rgb, const Point& p, double radius, const std::array<float, 3>& colour) {
+void drawDisc(media::Image& rgb, const Point& p, double radius, const std::array<float, 3>& colour) {
   const int r0 = std::max(0, static_cast<int>(std::floor(p[1] - radius)));
   const int r1 = std::min(rgb.height - 1, static_cast<int>(std::ceil(p[1] + radius)));
   const int c0 = std::max(0, static_cast<int>(std::floor(p[0] - radius)));
@@ -24,7 +24,7 @@ void drawDisc(io::Image& rgb, const Point& p, double radius, const std::array<fl
     }
 }
 
-void drawLine(io::Image& rgb, const Point& a, const Point& b, double thickness, const std::array<float, 3>& colour) {
+void drawLine(media::Image& rgb, const Point& a, const Point& b, double thickness, const std::array<float, 3>& colour) {
   const double length = std::hypot(b[0] - a[0], b[1] - a[1]);
   const int steps = std::max(1, static_cast<int>(std::ceil(length * 2)));
   for (int i = 0; i <= steps; ++i) {
@@ -35,7 +35,7 @@ void drawLine(io::Image& rgb, const Point& a, const Point& b, double thickness, 
 
 }  // namespace
 
-void drawProjectedBox(io::Image& rgb, const Camera& camera, const GridSize& grid, const OverlayStyle& style) {
+void drawProjectedBox(media::Image& rgb, const Camera& camera, const GridSize& grid, const OverlayStyle& style) {
   if (rgb.channels != 3 || rgb.width != camera.width || rgb.height != camera.height)
     throw Error("box overlay: needs an RGB image of the camera's size " + std::to_string(camera.width) + "x" +
                 std::to_string(camera.height));

@@ -5,7 +5,7 @@
 #include <array>
 
 #include "pipeline/camera/camera.h"
-#include "pipeline/io/image.h"
+#include "pipeline/media/image.h"
 
 namespace smokesvd::render {
 
@@ -16,6 +16,6 @@ struct OverlayStyle {
 };
 
 // Draws the projected box of `grid` as seen by `camera` (whose image size must be the image's) onto `rgb`.
-void drawProjectedBox(io::Image& rgb, const Camera& camera, const GridSize& grid, const OverlayStyle& style = {});
+void drawProjectedBox(media::Image& rgb, const Camera& camera, const GridSize& grid, const OverlayStyle& style = {});
 
 }  // namespace smokesvd::render

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "pipeline/io/video.h"
+#include "pipeline/media/video.h"
 #include "runtime/error.h"
 
 namespace smokesvd::render {
@@ -16,12 +16,12 @@ std::vector<ViewCheck> checkCalibration(const Calibration& calibration, const st
     ViewCheck check;
     check.fileName = view.fileName;
     check.camera = calibratedCamera(view, calibration.box, grid, tileWidth);
-    const io::Image full = io::readVideoFrames(videoFolder / view.fileName, frame, 1).front();
+    const media::Image full = media::readVideoFrames(videoFolder / view.fileName, frame, 1).front();
     if (full.width * view.height != full.height * view.width)
       throw Error((videoFolder / view.fileName).string() + ": frames are " + std::to_string(full.width) + "x" +
                   std::to_string(full.height) + " but camera_hw says " + std::to_string(view.width) + "x" +
                   std::to_string(view.height));
-    check.frame = io::resize(full, check.camera.width, check.camera.height);
+    check.frame = media::resize(full, check.camera.width, check.camera.height);
     double sum = 0;
     for (float v : check.frame.values) sum += v;
     check.frameMean = static_cast<float>(sum / static_cast<double>(check.frame.values.size()));
@@ -43,19 +43,19 @@ std::vector<ViewCheck> checkCalibration(const Calibration& calibration, const st
   return checks;
 }
 
-io::Image besideEachOther(const std::vector<io::Image>& images) {
+media::Image besideEachOther(const std::vector<media::Image>& images) {
   if (images.empty()) throw Error("besideEachOther: no images");
-  io::Image out;
+  media::Image out;
   out.height = images[0].height;
   out.channels = images[0].channels;
-  for (const io::Image& image : images) {
+  for (const media::Image& image : images) {
     if (image.height != out.height || image.channels != out.channels)
       throw Error("besideEachOther: images differ in height or channels");
     out.width += image.width;
   }
   out.values.resize(static_cast<std::size_t>(out.width * out.height * out.channels));
   int offset = 0;
-  for (const io::Image& image : images) {
+  for (const media::Image& image : images) {
     for (int r = 0; r < image.height; ++r)
       for (int c = 0; c < image.width; ++c)
         for (int ch = 0; ch < image.channels; ++ch) out.at(r, offset + c, ch) = image.at(r, c, ch);

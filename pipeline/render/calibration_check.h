@@ -8,14 +8,14 @@
 #include <vector>
 
 #include "pipeline/camera/calibration.h"
-#include "pipeline/io/image.h"
+#include "pipeline/media/image.h"
 
 namespace smokesvd::render {
 
 struct ViewCheck {
   std::string fileName;
   Camera camera;                  // at the tile size
-  io::Image frame;                // the video frame, gray, resized to the tile size
+  media::Image frame;                // the video frame, gray, resized to the tile size
   std::array<double, 2> centre{}; // projected box centre, pixel coordinates of the tile
   bool centreInFrame = false;
   float brightnessAtCentre = 0;   // mean frame value in a 5x5 window at the centre (0 when outside)
@@ -28,6 +28,6 @@ std::vector<ViewCheck> checkCalibration(const Calibration& calibration, const st
                                         int frame, int tileWidth, const GridSize& grid);
 
 // Images of one height side by side (all gray or all RGB).
-io::Image besideEachOther(const std::vector<io::Image>& images);
+media::Image besideEachOther(const std::vector<media::Image>& images);
 
 }  // namespace smokesvd::render

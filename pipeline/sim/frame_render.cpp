@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "pipeline/camera/camera.h"
-#include "pipeline/io/image.h"
+#include "pipeline/media/image.h"
 #include "pipeline/sim/outputs.h"
 
 namespace smokesvd::sim {
@@ -46,10 +46,10 @@ void FrameRenderer::write(const std::filesystem::path& directory, const Simulato
     std::snprintf(view, sizeof view, "view_%02d", v);
     const std::filesystem::path folder = directory / "renders" / view;
     std::filesystem::create_directories(folder);
-    io::Image image = io::Image::gray(spec_.width, spec_.height);
+    media::Image image = media::Image::gray(spec_.width, spec_.height);
     for (std::size_t i = 0; i < perView; ++i)
       image.values[i] = pixels[static_cast<std::size_t>(v) * perView + i] * static_cast<float>(spec_.exposure);
-    io::writePng(folder / (frame + ".png"), image, 16);
+    media::writePng(folder / (frame + ".png"), image, 16);
   }
 }
 

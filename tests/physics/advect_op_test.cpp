@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "nets/io/npy.h"
-#include "pipeline/functional/physics.h"
+#include "pipeline/differentiable/physics.h"
 #include "tests/harness/command.h"
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
@@ -30,7 +30,7 @@ TEST_F(GpuTest, AdvectOnTheTapeSumsBothRolesOfTheVelocity) {
   Tape tape(stream);
   Var velocity = variable(velocityValues, true);
   Var inflow = variable(inflowValues, true);
-  Var out = fn::advect(tape, grid, velocity, velocity, inflow, params);
+  Var out = diff::advect(tape, grid, velocity, velocity, inflow, params);
   tape.backward({{out, upstream}});
 
   Tensor asField(context(), kGrid.vector()), asVelocity(context(), kGrid.vector());
@@ -48,8 +48,8 @@ TEST_F(GpuTest, PaperVelocityLossOnTheTape) {
   Stream stream(context());
   Tape tape(stream);
   Var velocity = variable(randomTensor(context(), kGrid.vector(), 4), true);
-  Var divergence = fn::divergence(tape, velocity, physics::Staggering::Centred);
-  Var gradientNorm = fn::gradientNormSquared(tape, velocity);
+  Var divergence = diff::divergence(tape, velocity, physics::Staggering::Centred);
+  Var gradientNorm = diff::gradientNormSquared(tape, velocity);
   Tensor ones = Tensor::fromHost(context(), kGrid.volume(), std::vector<float>(kGrid.cells(), 1.0f));
   tape.backward({{divergence, divergence->value}, {gradientNorm, ones}});  // ½‖div‖² + ‖∇u‖²
   Tensor expectedDivergence(context(), kGrid.vector()), expectedNorm(context(), kGrid.vector());

@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "pipeline/camera/calibration.h"
-#include "pipeline/io/video.h"
+#include "pipeline/media/video.h"
 #include "pipeline/render/calibration_check.h"
 #include "runtime/error.h"
 #include "tests/render/scenes.h"
@@ -167,7 +167,7 @@ TEST(ScalarFlowCalibrationTest, BoxProjectsIntoEveryCameraAndCentreCameraIsTheFr
 TEST(ScalarFlowCalibrationTest, ProjectedBoxCentreLandsOnSmokeInEveryVideo) {
   const fs::path folder = scalarflowFolder();
   if (!fs::exists(folder / "info.json")) GTEST_SKIP() << folder << " not present";
-  if (!io::findFfmpeg()) GTEST_SKIP() << "ffmpeg not installed";
+  if (!media::findFfmpeg()) GTEST_SKIP() << "ffmpeg not installed";
   const Calibration calibration = readCalibration(folder / "info.json");
   const std::vector<render::ViewCheck> checks = render::checkCalibration(calibration, folder, 90, 135, {64, 96, 64});
   ASSERT_EQ(checks.size(), 5u);

@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "nets/io/npy.h"
-#include "pipeline/functional/render.h"
+#include "pipeline/differentiable/render.h"
 #include "tests/harness/command.h"
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
@@ -28,7 +28,7 @@ TEST_F(GpuTest, TapeRenderOfRotatedVolumeMatchesFiniteDifferences) {
   Tape tape(stream);
   Var x = variable(randomTensor(context(), {5, 6, 5}, 71, 0, 1, &density), true);
   const render::ViewSet views = render::uploadViews(context(), cameras);
-  Var images = fn::render(tape, fn::rotate(tape, x, 30.0), views, s);
+  Var images = diff::render(tape, diff::rotate(tape, x, 30.0), views, s);
   const Tensor seed = randomTensor(context(), images->value.shape(), 72, -1, 1, &upstream);
   tape.backward({{images, seed}});
   stream.submit();
@@ -47,7 +47,7 @@ TEST_F(GpuTest, TapeLiftGivesImageGradients) {
   Stream stream(context());
   Tape tape(stream);
   Var x = variable(randomTensor(context(), {2, 1, 4, 5}, 73, 0, 1, &images), true);
-  Var lifted = fn::lift(tape, x, render::uploadViews(context(), cameras), grid);
+  Var lifted = diff::lift(tape, x, render::uploadViews(context(), cameras), grid);
   ASSERT_EQ(lifted->value.shape(), (Shape{1, 2, 3, 4, 5}));
   const Tensor seed = randomTensor(context(), lifted->value.shape(), 74, -1, 1, &upstream);
   tape.backward({{lifted, seed}});

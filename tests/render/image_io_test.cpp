@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "pipeline/io/image.h"
-#include "pipeline/io/video.h"
+#include "pipeline/media/image.h"
+#include "pipeline/media/video.h"
 #include "runtime/error.h"
 
 namespace smokesvd::testing {
@@ -25,8 +25,8 @@ class ImageIoTest : public ::testing::Test {
   fs::path path(const std::string& name) const { return directory_ / name; }
   void writeText(const fs::path& file, const std::string& text) const { std::ofstream(file) << text; }
 
-  static io::Image ramp(int width, int height) {
-    io::Image image = io::Image::gray(width, height);
+  static media::Image ramp(int width, int height) {
+    media::Image image = media::Image::gray(width, height);
     for (int r = 0; r < height; ++r)
       for (int c = 0; c < width; ++c) image.at(r, c) = static_cast<float>(r * width + c) / static_cast<float>(width * height - 1);
     return image;
@@ -45,11 +45,11 @@ std::string errorOf(const std::function<void()>& f) {
 }
 
 TEST_F(ImageIoTest, PngRoundTripsAt8And16Bits) {
-  const io::Image image = ramp(13, 7);
+  const media::Image image = ramp(13, 7);
   for (int bits : {8, 16}) {
-    io::writePng(path("a.png"), image, bits);
+    media::writePng(path("a.png"), image, bits);
     EXPECT_FALSE(fs::exists(path("a.png.tmp")));
-    const io::Image back = io::readPng(path("a.png"));
+    const media::Image back = media::readPng(path("a.png"));
     ASSERT_EQ(back.width, 13);
     ASSERT_EQ(back.height, 7);
     const double step = bits == 8 ? 1.0 / 255 : 1.0 / 65535;
@@ -58,40 +58,40 @@ TEST_F(ImageIoTest, PngRoundTripsAt8And16Bits) {
 }
 
 TEST_F(ImageIoTest, RgbPngReadsAsLuminance) {
-  io::Image rgb;
+  media::Image rgb;
   rgb.width = 2;
   rgb.height = 1;
   rgb.channels = 3;
   rgb.values = {1, 0, 0, 0, 0, 1};
-  io::writePng(path("rgb.png"), rgb);
-  const io::Image gray = io::readPng(path("rgb.png"));
+  media::writePng(path("rgb.png"), rgb);
+  const media::Image gray = media::readPng(path("rgb.png"));
   EXPECT_NEAR(gray.values[0], 0.299, 0.003);
   EXPECT_NEAR(gray.values[1], 0.114, 0.003);
 }
 
 TEST_F(ImageIoTest, BadPngFilesGiveErrorsNamingThem) {
   writeText(path("broken.png"), "this is not a png");
-  EXPECT_NE(errorOf([&] { io::readPng(path("broken.png")); }).find("broken.png: not a readable PNG"), std::string::npos);
-  EXPECT_NE(errorOf([&] { io::readPng(path("missing.png")); }).find("missing.png: cannot open"), std::string::npos);
-  EXPECT_NE(errorOf([&] { io::writePng(path("no/such/folder/x.png"), ramp(3, 3)); }).find("cannot write"),
+  EXPECT_NE(errorOf([&] { media::readPng(path("broken.png")); }).find("broken.png: not a readable PNG"), std::string::npos);
+  EXPECT_NE(errorOf([&] { media::readPng(path("missing.png")); }).find("missing.png: cannot open"), std::string::npos);
+  EXPECT_NE(errorOf([&] { media::writePng(path("no/such/folder/x.png"), ramp(3, 3)); }).find("cannot write"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { io::writePng(path("x.png"), ramp(3, 3), 12); }).find("bit depth"), std::string::npos);
+  EXPECT_NE(errorOf([&] { media::writePng(path("x.png"), ramp(3, 3), 12); }).find("bit depth"), std::string::npos);
 }
 
 TEST_F(ImageIoTest, PngFolderIsAFrameSequence) {
   fs::create_directories(path("frames"));
   for (int i = 0; i < 3; ++i)
-    io::writePng(path("frames/f" + std::to_string(i) + ".png"), io::Image::gray(4, 3, 0.25f * static_cast<float>(i)));
-  const std::vector<io::Image> frames = io::readFrames(path("frames"), 1, -1);
+    media::writePng(path("frames/f" + std::to_string(i) + ".png"), media::Image::gray(4, 3, 0.25f * static_cast<float>(i)));
+  const std::vector<media::Image> frames = media::readFrames(path("frames"), 1, -1);
   ASSERT_EQ(frames.size(), 2u);
   EXPECT_NEAR(frames[1].values[0], 0.5, 0.003);
-  EXPECT_NE(errorOf([&] { io::readFrames(path("nothing-here")); }).find("no such file or folder"), std::string::npos);
+  EXPECT_NE(errorOf([&] { media::readFrames(path("nothing-here")); }).find("no such file or folder"), std::string::npos);
 }
 
 TEST_F(ImageIoTest, UnreadableVideoIsAClearError) {
-  if (!io::findFfmpeg()) GTEST_SKIP() << "ffmpeg not installed";
+  if (!media::findFfmpeg()) GTEST_SKIP() << "ffmpeg not installed";
   writeText(path("garbage.mp4"), "not a video at all");
-  const std::string message = errorOf([&] { io::readFrames(path("garbage.mp4")); });
+  const std::string message = errorOf([&] { media::readFrames(path("garbage.mp4")); });
   EXPECT_NE(message.find("garbage.mp4: not a readable video"), std::string::npos) << message;
 }
 
@@ -100,8 +100,8 @@ TEST_F(ImageIoTest, MissingFfmpegIsAClearError) {
   const std::string saved = previous ? previous : "";
   ::setenv("SMOKESVD_FFMPEG", "/nonexistent/ffmpeg", 1);
   writeText(path("clip.mp4"), "x");
-  const std::string message = errorOf([&] { io::readFrames(path("clip.mp4")); });
-  const std::string writeMessage = errorOf([&] { io::writeVideo(path("out.mp4"), {ramp(4, 4)}); });
+  const std::string message = errorOf([&] { media::readFrames(path("clip.mp4")); });
+  const std::string writeMessage = errorOf([&] { media::writeVideo(path("out.mp4"), {ramp(4, 4)}); });
   if (previous) ::setenv("SMOKESVD_FFMPEG", saved.c_str(), 1);
   else ::unsetenv("SMOKESVD_FFMPEG");
   EXPECT_NE(message.find("needs ffmpeg"), std::string::npos) << message;
@@ -109,16 +109,16 @@ TEST_F(ImageIoTest, MissingFfmpegIsAClearError) {
 }
 
 TEST_F(ImageIoTest, VideoRoundTrip) {
-  if (!io::findFfmpeg()) GTEST_SKIP() << "ffmpeg not installed";
-  std::vector<io::Image> frames;
-  for (int i = 0; i < 4; ++i) frames.push_back(io::Image::gray(16, 10, 0.2f * static_cast<float>(i + 1)));
-  io::writeVideo(path("clip.mp4"), frames, 10);
+  if (!media::findFfmpeg()) GTEST_SKIP() << "ffmpeg not installed";
+  std::vector<media::Image> frames;
+  for (int i = 0; i < 4; ++i) frames.push_back(media::Image::gray(16, 10, 0.2f * static_cast<float>(i + 1)));
+  media::writeVideo(path("clip.mp4"), frames, 10);
   EXPECT_FALSE(fs::exists(path("clip.mp4.tmp.mp4")));
-  const io::VideoInfo info = io::probeVideo(path("clip.mp4"));
+  const media::VideoInfo info = media::probeVideo(path("clip.mp4"));
   EXPECT_EQ(info.width, 16);
   EXPECT_EQ(info.height, 10);
   EXPECT_NEAR(info.frameRate, 10.0, 1e-6);
-  const std::vector<io::Image> back = io::readFrames(path("clip.mp4"), 1, 2);
+  const std::vector<media::Image> back = media::readFrames(path("clip.mp4"), 1, 2);
   ASSERT_EQ(back.size(), 2u);
   EXPECT_NEAR(back[0].values[5 * 16 + 8], 0.4, 0.03);
   EXPECT_NEAR(back[1].values[5 * 16 + 8], 0.6, 0.03);

@@ -5,8 +5,8 @@
 #include <fstream>
 
 #include "nets/io/npy.h"
-#include "pipeline/io/image.h"
-#include "pipeline/io/video.h"
+#include "pipeline/media/image.h"
+#include "pipeline/media/video.h"
 #include "tests/harness/command.h"
 #include "tests/harness/random.h"
 
@@ -34,7 +34,7 @@ TEST_F(RenderCommandTest, RendersScalarFlowStyleNpzToPngs) {
                   "--out " + path("out"));
   ASSERT_EQ(result.exitCode, 0) << result.err;
   for (const char* name : {"density_000_a000.0.png", "density_000_a090.0.png"}) {
-    const io::Image image = io::readPng(path("out") + "/" + name);
+    const media::Image image = media::readPng(path("out") + "/" + name);
     EXPECT_EQ(image.width, 7);
     EXPECT_EQ(image.height, 9);
     float maximum = 0;
@@ -44,13 +44,13 @@ TEST_F(RenderCommandTest, RendersScalarFlowStyleNpzToPngs) {
 }
 
 TEST_F(RenderCommandTest, TurntableWritesAVideoWhenFfmpegIsThere) {
-  if (!io::findFfmpeg()) GTEST_SKIP() << "ffmpeg not installed";
+  if (!media::findFfmpeg()) GTEST_SKIP() << "ffmpeg not installed";
   io::writeNpy(path("d.npy"), io::NpyArray::fromFloats({6, 8, 6}, randomValues(288, 2, 0, 1)));
   const CommandResult result = runSmokesvd("render " + path("d.npy") + " --turntable 4 --preset tiny --mp4 --out " +
                                            path("turn"));
   ASSERT_EQ(result.exitCode, 0) << result.err;
   EXPECT_TRUE(fs::exists(path("turn") + "/d_t003.png"));
-  EXPECT_EQ(io::probeVideo(path("turn") + "/d_turntable.mp4").width, 16);
+  EXPECT_EQ(media::probeVideo(path("turn") + "/d_turntable.mp4").width, 16);
 }
 
 TEST_F(RenderCommandTest, BadInputsGiveClearErrors) {

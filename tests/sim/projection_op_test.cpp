@@ -5,7 +5,7 @@
 #include <cmath>
 #include <memory>
 
-#include "pipeline/functional/projection.h"
+#include "pipeline/differentiable/projection.h"
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/op_runner.h"
@@ -58,7 +58,7 @@ TEST_F(ProjectOp, ForwardIsTheSolverAndBackwardProjectsTheGradient) {
   Stream stream(context());
   Tape tape(stream);
   Var velocity = variable(u, true);
-  Var projected = fn::project(tape, solver, velocity);
+  Var projected = diff::project(tape, solver, velocity);
   tape.backward({{projected, g}});
   stream.submit();
 

@@ -11,14 +11,14 @@
 #include <iostream>
 
 #include "pipeline/camera/calibration.h"
-#include "pipeline/io/image.h"
-#include "pipeline/io/video.h"
+#include "pipeline/media/image.h"
+#include "pipeline/media/video.h"
 #include "pipeline/preset.h"
 #include "pipeline/render/box_overlay.h"
 #include "pipeline/render/calibration_check.h"
 #include "pipeline/render/number_list.h"
 #include "pipeline/render/renderer.h"
-#include "pipeline/render/volume_file.h"
+#include "pipeline/media/volume_file.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
 
@@ -97,7 +97,7 @@ std::vector<LabelledCamera> camerasFor(const RenderArguments& a, const Preset& p
 }
 
 // Renders `density` through `cameras`: one dispatch for all views when they share an image size, else one each.
-std::vector<io::Image> renderImages(Context& context, const render::DensityVolume& density,
+std::vector<media::Image> renderImages(Context& context, const media::DensityVolume& density,
                                     const std::vector<Camera>& cameras, const render::RenderSettings& settings,
                                     float gain) {
   const Tensor volume = Tensor::fromHost(context, {density.grid.depth, density.grid.height, density.grid.width},
@@ -106,7 +106,7 @@ std::vector<io::Image> renderImages(Context& context, const render::DensityVolum
   for (const Camera& camera : cameras)
     oneSize = oneSize && camera.width == cameras[0].width && camera.height == cameras[0].height;
   const std::size_t batch = oneSize ? cameras.size() : 1;
-  std::vector<io::Image> images;
+  std::vector<media::Image> images;
   for (std::size_t first = 0; first < cameras.size(); first += batch) {
     const render::ViewSet views = render::uploadViews(context, std::span<const Camera>(&cameras[first], batch));
     Tensor rendered(context, {views.views, 1, views.height, views.width});
@@ -116,7 +116,7 @@ std::vector<io::Image> renderImages(Context& context, const render::DensityVolum
     const std::vector<float> values = rendered.download();
     const auto pixels = static_cast<std::size_t>(views.width) * static_cast<std::size_t>(views.height);
     for (std::size_t v = 0; v < batch; ++v) {
-      io::Image image = io::Image::gray(views.width, views.height);
+      media::Image image = media::Image::gray(views.width, views.height);
       for (std::size_t i = 0; i < pixels; ++i) image.values[i] = gain * values[v * pixels + i];
       images.push_back(std::move(image));
     }
@@ -124,23 +124,23 @@ std::vector<io::Image> renderImages(Context& context, const render::DensityVolum
   return images;
 }
 
-void writeVideoOrFail(const fs::path& path, const std::vector<io::Image>& frames, double fps) {
-  io::writeVideo(path, frames, fps);
+void writeVideoOrFail(const fs::path& path, const std::vector<media::Image>& frames, double fps) {
+  media::writeVideo(path, frames, fps);
   std::cout << "wrote " << path.string() << "\n";
 }
 
 void renderVolumes(const GlobalOptions& global, const RenderArguments& a) {
   if (a.volumes.empty()) throw Error("render: give one or more volume files (.npy or .npz), or --overlay-frame");
   if (a.out.empty()) throw Error("render: --out FOLDER is required");
-  if (a.mp4 && !io::findFfmpeg()) throw Error("render --mp4: ffmpeg was not found (install it or set SMOKESVD_FFMPEG)");
+  if (a.mp4 && !media::findFfmpeg()) throw Error("render --mp4: ffmpeg was not found (install it or set SMOKESVD_FFMPEG)");
   const Preset& preset = smokesvd::preset(a.preset);
   const render::RenderSettings settings = settingsFrom(a);
   fs::create_directories(a.out);
   Context context(global.contextOptions());
-  std::vector<std::vector<io::Image>> perVolume;
+  std::vector<std::vector<media::Image>> perVolume;
   std::vector<std::string> labels;
   for (const std::string& file : a.volumes) {
-    const render::DensityVolume density = render::readDensityVolume(file, a.key);
+    const media::DensityVolume density = media::readDensityVolume(file, a.key);
     const std::vector<LabelledCamera> labelled = camerasFor(a, preset, density.grid);
     std::vector<Camera> cameras;
     labels.clear();
@@ -148,10 +148,10 @@ void renderVolumes(const GlobalOptions& global, const RenderArguments& a) {
       cameras.push_back(c.camera);
       labels.push_back(c.label);
     }
-    std::vector<io::Image> images = renderImages(context, density, cameras, settings, a.gain);
+    std::vector<media::Image> images = renderImages(context, density, cameras, settings, a.gain);
     const std::string stem = fs::path(file).stem().string();
     for (std::size_t v = 0; v < images.size(); ++v)
-      io::writePng(fs::path(a.out) / (stem + "_" + labels[v] + ".png"), images[v], a.bits);
+      media::writePng(fs::path(a.out) / (stem + "_" + labels[v] + ".png"), images[v], a.bits);
     std::cout << file << ": " << images.size() << " views, grid " << density.grid.depth << "x" << density.grid.height
               << "x" << density.grid.width << " -> " << a.out << "/" << stem << "_*.png\n";
     if (a.mp4 && a.turntable > 0) writeVideoOrFail(fs::path(a.out) / (stem + "_turntable.mp4"), images, a.fps);
@@ -159,7 +159,7 @@ void renderVolumes(const GlobalOptions& global, const RenderArguments& a) {
   }
   if (a.mp4 && a.turntable == 0) {
     for (std::size_t v = 0; v < labels.size(); ++v) {
-      std::vector<io::Image> frames;
+      std::vector<media::Image> frames;
       for (const auto& images : perVolume) frames.push_back(images[v]);
       writeVideoOrFail(fs::path(a.out) / (labels[v] + ".mp4"), frames, a.fps);
     }
@@ -178,12 +178,12 @@ void calibrationOverlay(const GlobalOptions& global, const RenderArguments& a) {
   if (a.out.empty() || fs::path(a.out).extension() != ".png") throw Error("render --overlay-frame: --out FILE.png");
   if (a.volumes.size() > 1) throw Error("render --overlay-frame: give at most one volume");
   const Calibration calibration = readCalibration(a.cameras);
-  render::DensityVolume density;
+  media::DensityVolume density;
   if (a.volumes.empty()) {
     density.grid = overlayGrid(a, smokesvd::preset(a.preset));
     density.values.assign(static_cast<std::size_t>(density.grid.depth * density.grid.height * density.grid.width), 1.0f);
   } else {
-    density = render::readDensityVolume(a.volumes[0], a.key);
+    density = media::readDensityVolume(a.volumes[0], a.key);
   }
   const std::vector<render::ViewCheck> checks = render::checkCalibration(
       calibration, fs::path(a.cameras).parent_path(), a.overlayFrame, a.width > 0 ? a.width : 270, density.grid);
@@ -191,10 +191,10 @@ void calibrationOverlay(const GlobalOptions& global, const RenderArguments& a) {
   for (const render::ViewCheck& check : checks) cameras.push_back(check.camera);
   render::RenderSettings settings = settingsFrom(a);
   Context context(global.contextOptions());
-  const std::vector<io::Image> renders = renderImages(context, density, cameras, settings, a.gain);
-  std::vector<io::Image> tiles;
+  const std::vector<media::Image> renders = renderImages(context, density, cameras, settings, a.gain);
+  std::vector<media::Image> tiles;
   for (std::size_t i = 0; i < checks.size(); ++i) {
-    io::Image rgb = io::toRgb(checks[i].frame);
+    media::Image rgb = media::toRgb(checks[i].frame);
     for (int r = 0; r < rgb.height; ++r)
       for (int c = 0; c < rgb.width; ++c) rgb.at(r, c, 2) = std::min(1.0f, rgb.at(r, c, 2) + 0.5f * renders[i].at(r, c));
     render::drawProjectedBox(rgb, checks[i].camera, density.grid);
@@ -204,7 +204,7 @@ void calibrationOverlay(const GlobalOptions& global, const RenderArguments& a) {
                 checks[i].camera.height, checks[i].centreInFrame ? "inside" : "OUTSIDE",
                 static_cast<double>(checks[i].brightnessAtCentre), static_cast<double>(checks[i].frameMean));
   }
-  io::writePng(a.out, render::besideEachOther(tiles), 8);
+  media::writePng(a.out, render::besideEachOther(tiles), 8);
   std::cout << "wrote " << a.out << "\n";
 }
 

@@ -9,7 +9,7 @@
 #include "pipeline/render/number_list.h"
 #include "runtime/error.h"
 
-namespace smokesvd::fn {
+namespace smokesvd::diff {
 namespace {
 
 void requireNoGradient(const Tape& tape, const std::vector<Var>& inputs, const std::string& op) {
@@ -94,4 +94,4 @@ const bool registered =
                 applyVorticity});
 
 }  // namespace
-}  // namespace smokesvd::fn
+}  // namespace smokesvd::diff

@@ -1,4 +1,4 @@
-#include "pipeline/io/video.h"
+#include "pipeline/media/video.h"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -16,7 +16,7 @@
 
 #include "runtime/error.h"
 
-namespace smokesvd::io {
+namespace smokesvd::media {
 namespace {
 
 namespace fs = std::filesystem;
@@ -277,4 +277,4 @@ std::vector<Image> readFrames(const fs::path& path, int first, int count) {
   return frames;
 }
 
-}  // namespace smokesvd::io
+}  // namespace smokesvd::media

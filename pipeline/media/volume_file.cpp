@@ -1,11 +1,11 @@
-#include "pipeline/render/volume_file.h"
+#include "pipeline/media/volume_file.h"
 
 #include <map>
 
 #include "nets/io/npy.h"
 #include "runtime/error.h"
 
-namespace smokesvd::render {
+namespace smokesvd::media {
 namespace {
 
 std::string chooseKey(const std::map<std::string, io::NpyArray>& arrays, const std::string& key,
@@ -50,4 +50,4 @@ DensityVolume readDensityVolume(const std::filesystem::path& path, const std::st
   return {{shape[0], shape[1], shape[2]}, array.toFloat()};
 }
 
-}  // namespace smokesvd::render
+}  // namespace smokesvd::media

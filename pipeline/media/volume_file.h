@@ -12,7 +12,7 @@
 
 #include "pipeline/camera/camera.h"
 
-namespace smokesvd::render {
+namespace smokesvd::media {
 
 struct DensityVolume {
   GridSize grid;
@@ -21,4 +21,4 @@ struct DensityVolume {
 
 DensityVolume readDensityVolume(const std::filesystem::path& path, const std::string& key = "");
 
-}  // namespace smokesvd::render
+}  // namespace smokesvd::media

@@ -1,11 +1,11 @@
-#include "pipeline/functional/physics.h"
+#include "pipeline/differentiable/physics.h"
 
 #include <string>
 
 #include "nets/op_registry.h"
 #include "runtime/error.h"
 
-namespace smokesvd::fn {
+namespace smokesvd::diff {
 namespace {
 
 Tensor like(const Tape& tape, const Var& v) { return Tensor(tape.context(), v->value.shape()); }
@@ -170,4 +170,4 @@ const bool registered =
                 }});
 
 }  // namespace
-}  // namespace smokesvd::fn
+}  // namespace smokesvd::diff

@@ -1,4 +1,4 @@
-#include "pipeline/functional/projection.h"
+#include "pipeline/differentiable/projection.h"
 
 #include <cstdio>
 #include <string>
@@ -6,7 +6,7 @@
 #include "nets/op_registry.h"
 #include "runtime/error.h"
 
-namespace smokesvd::fn {
+namespace smokesvd::diff {
 namespace {
 
 // Runs the work recorded so far, then one solve; the stream starts a new recording after it.
@@ -69,4 +69,4 @@ const bool registered = registerOp(
      applyProject});
 
 }  // namespace
-}  // namespace smokesvd::fn
+}  // namespace smokesvd::diff

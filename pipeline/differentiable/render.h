@@ -14,10 +14,10 @@
 #include "nets/autograd/tape.h"
 #include "pipeline/render/renderer.h"
 
-namespace smokesvd::fn {
+namespace smokesvd::diff {
 
 Var render(Tape& tape, const Var& density, const render::ViewSet& views, const render::RenderSettings& settings);
 Var lift(Tape& tape, const Var& images, const render::ViewSet& views, const GridSize& grid);
 Var rotate(Tape& tape, const Var& volume, double angleDegrees);
 
-}  // namespace smokesvd::fn
+}  // namespace smokesvd::diff

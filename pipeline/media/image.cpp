@@ -1,4 +1,4 @@
-#include "pipeline/io/image.h"
+#include "pipeline/media/image.h"
 
 #include <algorithm>
 #include <array>
@@ -16,7 +16,7 @@
 // stb_image_write's zlib compressor (compiled in stb_backend.cpp; its header does not declare it).
 extern "C" unsigned char* stbi_zlib_compress(unsigned char* data, int length, int* outLength, int quality);
 
-namespace smokesvd::io {
+namespace smokesvd::media {
 namespace {
 
 namespace fs = std::filesystem;
@@ -176,4 +176,4 @@ Image resize(const Image& image, int width, int height) {
   return out;
 }
 
-}  // namespace smokesvd::io
+}  // namespace smokesvd::media

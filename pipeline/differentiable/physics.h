@@ -7,7 +7,7 @@
 #include "pipeline/physics/differential.h"
 #include "pipeline/physics/grid.h"
 
-namespace smokesvd::fn {
+namespace smokesvd::diff {
 
 // A(field, velocity) + inflow (pipeline/physics/advection.h). `inflow` may be null. The field may be
 // the velocity itself (MAC self-advection); its gradient then sums both roles.
@@ -24,4 +24,4 @@ Var gradientNormSquared(Tape& tape, const Var& velocity);
 Var velocityToPlanar(Tape& tape, const Var& interleaved);
 Var velocityToInterleaved(Tape& tape, const Var& planar);
 
-}  // namespace smokesvd::fn
+}  // namespace smokesvd::diff

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <vector>
 
-namespace smokesvd::io {
+namespace smokesvd::media {
 
 struct Image {
   int width = 0, height = 0;
@@ -34,4 +34,4 @@ Image toRgb(const Image& gray);
 // Bilinear resize of a gray or RGB image.
 Image resize(const Image& image, int width, int height);
 
-}  // namespace smokesvd::io
+}  // namespace smokesvd::media

@@ -2,16 +2,16 @@
 //
 // ffmpeg is found as $SMOKESVD_FFMPEG if set, else `ffmpeg` on PATH; ffprobe next to it. Without ffmpeg every
 // video function throws an Error saying so; PNG sequences need no ffmpeg. Frames are gray, values in [0, 1],
-// row 0 at the top (pipeline/io/image.h).
+// row 0 at the top (pipeline/media/image.h).
 #pragma once
 
 #include <filesystem>
 #include <optional>
 #include <vector>
 
-#include "pipeline/io/image.h"
+#include "pipeline/media/image.h"
 
-namespace smokesvd::io {
+namespace smokesvd::media {
 
 struct VideoInfo {
   int width = 0, height = 0;
@@ -31,4 +31,4 @@ void writeVideo(const std::filesystem::path& path, const std::vector<Image>& fra
 // Frame input for the pipeline: a folder of PNG files (sorted by name) or a video file.
 std::vector<Image> readFrames(const std::filesystem::path& path, int first = 0, int count = -1);
 
-}  // namespace smokesvd::io
+}  // namespace smokesvd::media

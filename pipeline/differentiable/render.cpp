@@ -1,4 +1,4 @@
-#include "pipeline/functional/render.h"
+#include "pipeline/differentiable/render.h"
 
 #include "nets/op_registry.h"
 #include "pipeline/camera/calibration.h"
@@ -7,7 +7,7 @@
 #include "pipeline/render/rotate.h"
 #include "runtime/error.h"
 
-namespace smokesvd::fn {
+namespace smokesvd::diff {
 
 Var render(Tape& tape, const Var& density, const render::ViewSet& views, const render::RenderSettings& settings) {
   const GridSize grid = render::volumeGrid(density->value, "render density");
@@ -147,4 +147,4 @@ const bool registered =
                 }});
 
 }  // namespace
-}  // namespace smokesvd::fn
+}  // namespace smokesvd::diff

@@ -13,10 +13,10 @@
 #include "nets/autograd/tape.h"
 #include "pipeline/physics/pressure.h"
 
-namespace smokesvd::fn {
+namespace smokesvd::diff {
 
 // The solver runs its own submits: the tape's stream is submitted (and restarted) before each solve, so
 // a projection splits a recording in two. Throws Error if a solve does not reach its tolerance.
 Var project(Tape& tape, const std::shared_ptr<physics::PressureSolver>& solver, const Var& velocity);
 
-}  // namespace smokesvd::fn
+}  // namespace smokesvd::diff
