@@ -1,6 +1,7 @@
 #include "nets/modules/conv.h"
 
 #include "nets/functional/conv.h"
+#include "nets/modules/flop_counter.h"
 #include "runtime/error.h"
 
 namespace smokesvd::modules {
@@ -23,7 +24,11 @@ Conv::Conv(Context& context, int dims, int64_t inChannels, int64_t outChannels, 
 }
 
 Var Conv::forward(Tape& tape, const Var& x) {
-  return dims_ == 2 ? fn::conv2d(tape, x, weight_, bias_, params_) : fn::conv3d(tape, x, weight_, bias_, params_);
+  Var y = dims_ == 2 ? fn::conv2d(tape, x, weight_, bias_, params_) : fn::conv3d(tape, x, weight_, bias_, params_);
+  // weight [out, in, k...]: per output element, in * k^dims multiply-adds.
+  FlopCounter::count(2.0 * static_cast<double>(y->value.numel()) *
+                     static_cast<double>(weight_->value.numel() / weight_->value.size(0)));
+  return y;
 }
 
 }  // namespace smokesvd::modules

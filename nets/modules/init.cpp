@@ -33,12 +33,13 @@ class SplitMix {
 }  // namespace
 
 Init Init::weight(WeightInit scheme, int64_t fanIn) {
+  if (scheme == WeightInit::Zero) return constant(0.0);
   const auto fan = static_cast<double>(fanIn);
   return uniform(scheme == WeightInit::He ? std::sqrt(6.0 / fan) : 1.0 / std::sqrt(fan));
 }
 
 Init Init::bias(WeightInit scheme, int64_t fanIn) {
-  return scheme == WeightInit::He ? constant(0.0) : uniform(1.0 / std::sqrt(static_cast<double>(fanIn)));
+  return scheme != WeightInit::TorchDefault ? constant(0.0) : uniform(1.0 / std::sqrt(static_cast<double>(fanIn)));
 }
 
 std::vector<float> drawValues(const Init& init, std::size_t count, uint64_t seed, const std::string& name) {

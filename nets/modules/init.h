@@ -20,7 +20,9 @@ namespace smokesvd::modules {
 //   TorchDefault  U(-b, b), b = 1 / sqrt(fan_in) for weights and biases alike: what torch.nn.Conv*d and
 //                 Linear do on construction (kaiming_uniform_ with a = sqrt 5), for exact parity of
 //                 distributions with a freshly built PyTorch model.
-enum class WeightInit { He, TorchDefault };
+//   Zero          weights and biases 0: the last layer of a residual branch or of a denoiser, so that a
+//                 fresh network starts as the identity (or predicts zero), as DDPM's zero-initialised convs.
+enum class WeightInit { He, TorchDefault, Zero };
 
 // A parameter's rule: every value `value` (Constant), or uniform on [-bound, bound) (Uniform).
 struct Init {

@@ -1,6 +1,7 @@
 #include "nets/modules/linear.h"
 
 #include "nets/functional/linear.h"
+#include "nets/modules/flop_counter.h"
 
 namespace smokesvd::modules {
 
@@ -9,6 +10,10 @@ Linear::Linear(Context& context, int64_t inFeatures, int64_t outFeatures, bool b
   if (bias) bias_ = addParameter(context, "bias", {outFeatures}, Init::bias(init, inFeatures));
 }
 
-Var Linear::forward(Tape& tape, const Var& x) { return fn::linear(tape, x, weight_, bias_); }
+Var Linear::forward(Tape& tape, const Var& x) {
+  Var y = fn::linear(tape, x, weight_, bias_);
+  FlopCounter::count(2.0 * static_cast<double>(y->value.numel()) * static_cast<double>(weight_->value.size(1)));
+  return y;
+}
 
 }  // namespace smokesvd::modules

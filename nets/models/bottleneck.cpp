@@ -1,0 +1,33 @@
+#include "nets/models/bottleneck.h"
+
+#include <algorithm>
+
+#include "nets/functional/activation.h"
+#include "nets/functional/elementwise.h"
+#include "runtime/error.h"
+
+namespace smokesvd::models {
+
+Bottleneck::Bottleneck(Context& context, BottleneckOptions o) : options_(o) {
+  if (o.dims != 2 && o.dims != 3) throw Error("Bottleneck: dims must be 2 or 3");
+  if (o.inChannels <= 0 || o.outChannels <= 0 || o.minMid <= 0)
+    throw Error("Bottleneck: channel counts must be positive");
+  const int64_t mid = std::max(o.outChannels / 4, o.minMid);
+  const int stride = o.downsample ? 2 : 1;
+  reduce_ = addChild("reduce", std::make_shared<modules::Conv>(context, o.dims, o.inChannels, mid, 1));
+  conv_ = addChild("conv", std::make_shared<modules::Conv>(context, o.dims, mid, mid, 3,
+                                                           modules::ConvOptions{stride, 1}));
+  expand_ = addChild("expand", std::make_shared<modules::Conv>(context, o.dims, mid, o.outChannels, 1));
+  skip_ = addChild("skip", std::make_shared<modules::Conv>(context, o.dims, o.inChannels, o.outChannels,
+                                                           o.downsample ? 2 : 1, modules::ConvOptions{stride, 0}));
+}
+
+Var Bottleneck::forward(Tape& tape, const Var& x) {
+  const float slope = options_.negativeSlope;
+  Var h = reduce_->forward(tape, fn::leakyRelu(tape, x, slope));
+  h = conv_->forward(tape, fn::leakyRelu(tape, h, slope));
+  h = expand_->forward(tape, fn::leakyRelu(tape, h, slope));
+  return fn::add(tape, skip_->forward(tape, x), h);
+}
+
+}  // namespace smokesvd::models
