@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -165,12 +167,44 @@ TEST(SceneDomain, BoundariesAndObstaclesBecomeFlags) {
 TEST(RandomScenes, SameSeedSameSceneOtherSeedOtherScene) {
   EXPECT_EQ(sim::randomScene(11, {64, 112, 64}, 150), sim::randomScene(11, {64, 112, 64}, 150));
   EXPECT_NE(sim::randomScene(11, {64, 112, 64}, 150), sim::randomScene(12, {64, 112, 64}, 150));
-  const Scene scene = sim::randomScene(11, {64, 112, 64}, 150);
-  ASSERT_EQ(scene.sources.size(), 1u);
-  const sim::Vec3& centre = scene.sources[0].shape.centre;
-  EXPECT_GT(centre[1], 0.0);
-  EXPECT_LT(centre[1], 0.2 * 112);
-  EXPECT_GT(scene.densityBuoyancy, 0.0);
+}
+
+// Over many seeds every kind of scene appears, sources stay low in the domain and inside it, and the
+// look varies.
+TEST(RandomScenes, TheDistributionCoversPlumesPuffsJetsAndTwoSources) {
+  int puffs = 0, jets = 0, twins = 0, lit = 0;
+  double minAbsorption = 1e9, maxAbsorption = 0;
+  for (uint64_t seed = 0; seed < 200; ++seed) {
+    const Scene scene = sim::randomScene(seed, {32, 56, 32}, 60);
+    ASSERT_GE(scene.sources.size(), 1u);
+    ASSERT_LE(scene.sources.size(), 2u);
+    twins += scene.sources.size() == 2;
+    for (const sim::Source& source : scene.sources) {
+      const sim::Vec3& centre = source.shape.centre;
+      EXPECT_GT(centre[0], 0.0);
+      EXPECT_LT(centre[0], 32.0);
+      EXPECT_GT(centre[2], 0.0);
+      EXPECT_LT(centre[2], 32.0);
+      EXPECT_GT(centre[1], 0.0);
+      EXPECT_LT(centre[1], 0.25 * 56);
+      puffs += source.frames.last > 0 && scene.sources.size() == 1;
+      if (source.velocity) {
+        const sim::Vec3 v = source.velocity->at(0);
+        jets += std::hypot(v[0], v[2]) > 0.1;
+      }
+    }
+    EXPECT_GT(scene.densityBuoyancy, 0.0);
+    lit += scene.render.lightDirection.has_value();
+    minAbsorption = std::min(minAbsorption, scene.render.absorption);
+    maxAbsorption = std::max(maxAbsorption, scene.render.absorption);
+  }
+  EXPECT_GT(puffs, 10);
+  EXPECT_GT(jets, 20);
+  EXPECT_GT(twins, 25);
+  EXPECT_GT(lit, 40);
+  EXPECT_LT(lit, 110);
+  EXPECT_LT(minAbsorption, 0.4);
+  EXPECT_GT(maxAbsorption, 0.8);
 }
 
 }  // namespace
