@@ -14,13 +14,12 @@ constexpr std::array<uint32_t, 3> kWorkgroup{64, 1, 1};
 struct MarchPush {
   int32_t width, height, depth;
   int32_t imageWidth, imageHeight, views;
-  float step, absorption, ambient, intensity;
+  float step;
 };
 
 struct LightPush {
   int32_t width, height, depth;
-  float lightX, lightY, lightZ;
-  float step, absorption;
+  float step;
 };
 
 void requireShape(const Tensor& tensor, const Shape& expected, const char* what) {
@@ -33,14 +32,18 @@ Shape volumeShape(const GridSize& g) { return {g.depth, g.height, g.width}; }
 
 MarchPush marchPush(const GridSize& g, const ViewSet& views, const RenderSettings& s) {
   return {static_cast<int32_t>(g.width), static_cast<int32_t>(g.height), static_cast<int32_t>(g.depth),
-          views.width, views.height, views.views, s.step, s.absorption, s.ambient,
-          s.light ? s.light->intensity : 0.0f};
+          views.width, views.height, views.views, s.step};
 }
 
 LightPush lightPush(const GridSize& g, const DirectionalLight& light) {
-  const Vec3 l = normalize(light.direction);
-  return {static_cast<int32_t>(g.width), static_cast<int32_t>(g.height), static_cast<int32_t>(g.depth),
-          static_cast<float>(l[0]), static_cast<float>(l[1]), static_cast<float>(l[2]), light.step, light.absorption};
+  return {static_cast<int32_t>(g.width), static_cast<int32_t>(g.height), static_cast<int32_t>(g.depth), light.step};
+}
+
+// The settings' own device look, or a fresh one from their fields.
+Tensor deviceLook(Context& context, const RenderSettings& settings) {
+  if (!settings.look.defined()) return lookTensor(context, settings);
+  if (settings.look.numel() != 8) throw Error("render: the device look must hold 8 values, got " + toString(settings.look.shape()));
+  return settings.look;
 }
 
 const Tensor& requireShadow(const Tensor* shadow, const GridSize& grid, const RenderSettings& settings) {
@@ -73,13 +76,36 @@ void validate(const RenderSettings& settings) {
   }
 }
 
+std::vector<float> lookValues(const RenderSettings& settings) {
+  std::vector<float> values{settings.absorption, settings.ambient, 0, 0, 0, 0, 0, 0};
+  if (settings.light) {
+    const Vec3 l = normalize(settings.light->direction);
+    values[2] = settings.light->intensity;
+    values[3] = settings.light->absorption;
+    for (int axis = 0; axis < 3; ++axis) values[static_cast<std::size_t>(4 + axis)] = static_cast<float>(l[axis]);
+  }
+  return values;
+}
+
+Tensor lookTensor(Context& context, const RenderSettings& settings) {
+  validate(settings);
+  return Tensor::fromHost(context, {8}, lookValues(settings));
+}
+
+void uploadLook(const Tensor& look, const RenderSettings& settings) {
+  validate(settings);
+  if (look.numel() != 8) throw Error("render: a device look holds 8 values, got " + toString(look.shape()));
+  look.upload(lookValues(settings));
+}
+
 void lightTransmittance(Stream& stream, const Tensor& density, const RenderSettings& settings, const Tensor& shadow) {
   validate(settings);
   if (!settings.light) throw Error("render: light transmittance needs a light in the settings");
   const GridSize grid = volumeGrid(density, "render density");
   requireShape(shadow, volumeShape(grid), "the light-transmittance volume");
-  stream.dispatchFlat(stream.kernel("render/light_transmittance", kWorkgroup), {density, shadow},
-                      lightPush(grid, *settings.light), static_cast<uint64_t>(density.numel()));
+  stream.dispatchFlat(stream.kernel("render/light_transmittance", kWorkgroup),
+                      {density, shadow, deviceLook(stream.context(), settings)}, lightPush(grid, *settings.light),
+                      static_cast<uint64_t>(density.numel()));
 }
 
 void march(Stream& stream, const Tensor& density, const Tensor* shadow, const ViewSet& views,
@@ -90,8 +116,9 @@ void march(Stream& stream, const Tensor& density, const Tensor* shadow, const Vi
   const bool lit = settings.light.has_value();
   const Tensor& shadowOrDensity = lit ? requireShadow(shadow, grid, settings) : density;
   const Kernel& kernel = stream.kernel("render/march", kWorkgroup, {lit ? 1 : 0});
-  stream.dispatchFlat(kernel, {density, shadowOrDensity, asVec4(views.table), images}, marchPush(grid, views, settings),
-                      static_cast<uint64_t>(images.numel()));
+  stream.dispatchFlat(kernel,
+                      {density, shadowOrDensity, asVec4(views.table), images, deviceLook(stream.context(), settings)},
+                      marchPush(grid, views, settings), static_cast<uint64_t>(images.numel()));
 }
 
 void render(Stream& stream, const Tensor& density, const ViewSet& views, const RenderSettings& settings,
@@ -117,11 +144,13 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
     throw Error("render backward: the density gradient " + toString(gradDensity.shape()) +
                 " must match the density " + toString(density.shape()));
   const MarchPush push = marchPush(grid, views, settings);
+  const Tensor look = deviceLook(stream.context(), settings);
   if (!settings.light) {
     stream.fillZero(gradDensity);
     const Tensor unusedShadowGradient(stream.context(), {1});
     stream.dispatchFlat(stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {0}),
-                        {density, density, asVec4(views.table), images, gradImages, gradDensity, unusedShadowGradient},
+                        {density, density, asVec4(views.table), images, gradImages, gradDensity, unusedShadowGradient,
+                         look},
                         push, static_cast<uint64_t>(images.numel()));
     return;
   }
@@ -131,10 +160,10 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
   stream.fillZero(direct);
   stream.fillZero(gradShadow);
   stream.dispatchFlat(stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {1}),
-                      {density, shadowVolume, asVec4(views.table), images, gradImages, direct, gradShadow}, push,
+                      {density, shadowVolume, asVec4(views.table), images, gradImages, direct, gradShadow, look}, push,
                       static_cast<uint64_t>(images.numel()));
   stream.dispatchFlat(stream.kernel("render/light_transmittance_adjoint", kWorkgroup),
-                      {shadowVolume, gradShadow, direct, gradDensity}, lightPush(grid, *settings.light),
+                      {shadowVolume, gradShadow, direct, gradDensity, look}, lightPush(grid, *settings.light),
                       static_cast<uint64_t>(density.numel()));
 }
 

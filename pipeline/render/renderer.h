@@ -19,6 +19,7 @@
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "pipeline/render/view_set.h"
 #include "runtime/stream.h"
@@ -37,10 +38,22 @@ struct RenderSettings {
   float absorption = 1.0f;  // extinction per unit density per voxel
   float ambient = 1.0f;     // source radiance everywhere (the whole source without a light)
   std::optional<DirectionalLight> light;
+  // The look on the device: when defined, the kernels read absorption, ambient and the light's intensity,
+  // absorption and direction from this [8] tensor (lookValues' layout) instead of the fields above, so a
+  // recording renders with another look after an upload (uploadLook). Steps and whether there is a light
+  // (which selects the kernels) stay those of the fields.
+  Tensor look;
 };
 
 // Throws Error naming the field unless steps are at least 0.001 voxels, absorptions >= 0 and every number finite.
 void validate(const RenderSettings& settings);
+
+// [absorption, ambient, light intensity, light absorption, unit light direction x, y, z, 0]; the light's
+// entries are 0 without a light (shaders/render/look.glsl).
+std::vector<float> lookValues(const RenderSettings& settings);
+// A device look for `settings` (validated), and an upload of another look into it.
+Tensor lookTensor(Context& context, const RenderSettings& settings);
+void uploadLook(const Tensor& look, const RenderSettings& settings);
 
 // Renders density [D, H, W] through every view into images [V, 1, h, w].
 void render(Stream& stream, const Tensor& density, const ViewSet& views, const RenderSettings& settings,

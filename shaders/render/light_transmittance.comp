@@ -4,19 +4,19 @@
 //   T_L(v) = exp(-absorption * step * sum_{j >= 0} sigma(c_v + (j + 1/2) * step * l))
 // v = (x, y, z) voxel, c_v its centre, l the unit direction toward the light (grid coordinates), sigma the
 // density sampled trilinearly with zero padding. Samples stop where they leave the box [-1/2, N + 1/2],
-// beyond which sigma is 0. One invocation per voxel; a gather, so the adjoint is a gather too
+// beyond which sigma is 0. l and the absorption come from the look buffer (look.glsl). One invocation per voxel; a gather, so the adjoint is a gather too
 // (light_transmittance_adjoint.comp).
 #include "index.glsl"
 #include "sampling.glsl"
+#include "look.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 
 layout(binding = 0) uniform samplerBuffer density;
 layout(std430, binding = 1) writeonly buffer Transmittance { float transmittance[]; };
+layout(binding = 2) uniform samplerBuffer look;
 layout(push_constant) uniform Push {
   int width, height, depth;
-  float light_x, light_y, light_z;
   float step_length;
-  float absorption;
 };
 
 void main() {
@@ -24,7 +24,8 @@ void main() {
   const ivec3 size = ivec3(width, height, depth);
   if (item >= uint(width * height * depth)) return;
   const int x = int(item) % width, y = (int(item) / width) % height, z = int(item) / (width * height);
-  const vec3 toward = step_length * vec3(light_x, light_y, light_z);
+  const vec3 toward = step_length * look_light_direction(look);
+  const float absorption = look_light_absorption(look);
   const vec3 lo = vec3(-0.5), hi = vec3(size) + 0.5;
   const vec3 centre = vec3(x, y, z) + 0.5;
   float optical = 0.0;

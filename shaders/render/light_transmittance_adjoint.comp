@@ -8,17 +8,17 @@
 // stops where it leaves the box [-1/2, N + 1/2]. direct(q) is the gradient that reached sigma by other paths.
 #include "index.glsl"
 #include "sampling.glsl"
+#include "look.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 
 layout(binding = 0) uniform samplerBuffer transmittance;
 layout(binding = 1) uniform samplerBuffer grad_transmittance;
 layout(binding = 2) uniform samplerBuffer direct;
 layout(std430, binding = 3) writeonly buffer GradDensity { float grad_density[]; };
+layout(binding = 4) uniform samplerBuffer look;
 layout(push_constant) uniform Push {
   int width, height, depth;
-  float light_x, light_y, light_z;
   float step_length;
-  float absorption;
 };
 
 float sample_h(ivec3 size, vec3 p) {
@@ -41,7 +41,8 @@ void main() {
   const ivec3 size = ivec3(width, height, depth);
   if (item >= uint(width * height * depth)) return;
   const int x = int(item) % width, y = (int(item) / width) % height, z = int(item) / (width * height);
-  const vec3 away = -step_length * vec3(light_x, light_y, light_z);
+  const vec3 away = -step_length * look_light_direction(look);
+  const float absorption = look_light_absorption(look);
   const vec3 lo = vec3(-0.5), hi = vec3(size) + 0.5;
   const vec3 centre = vec3(x, y, z) + 0.5;
   float sum = 0.0;

@@ -4,6 +4,8 @@
 // View v, pixel (row r, column c): ray o + t d (unit d, grid coordinates, camera.glsl) clipped to the box
 // [-1/2, N + 1/2] (where the zero-padded density can be non-zero) as [t0, t1]; samples at
 // t_k = t0 + (k + 1/2) * step for t_k < t1, k = 0, 1, ...:
+// The look (absorption, ambient, light intensity) is read from a small buffer so that one recording can
+// render with other settings after an upload (look.glsl):
 //   sigma_k = density(p_k)                      trilinear, zero padding
 //   S_k     = ambient + intensity * T_L(p_k)    with LIGHT (T_L trilinear, clamped); else S_k = ambient
 //   a_k     = 1 - exp(-absorption * sigma_k * step)
@@ -12,6 +14,7 @@
 #include "index.glsl"
 #include "sampling.glsl"
 #include "camera.glsl"
+#include "look.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int LIGHT = 0;
 
@@ -19,13 +22,11 @@ layout(binding = 0) uniform samplerBuffer density;
 layout(binding = 1) uniform samplerBuffer light_transmittance;  // [D, H, W]; any tensor without LIGHT
 layout(binding = 2) uniform samplerBuffer cameras;              // vec4 texels
 layout(std430, binding = 3) writeonly buffer Image { float image[]; };
+layout(binding = 4) uniform samplerBuffer look;
 layout(push_constant) uniform Push {
   int width, height, depth;
   int image_width, image_height, views;
   float step_length;
-  float absorption;
-  float ambient;
-  float intensity;
 };
 
 void main() {
@@ -35,6 +36,7 @@ void main() {
   const int row = (int(item) / image_width) % image_height;
   const int view = int(item) / (image_width * image_height);
   const ivec3 size = ivec3(width, height, depth);
+  const float absorption = look_absorption(look), ambient = look_ambient(look), intensity = look_intensity(look);
 
   vec3 origin, direction;
   camera_ray(cameras, view, vec2(column, row) + 0.5, origin, direction);

@@ -11,6 +11,7 @@
 #include "index.glsl"
 #include "sampling.glsl"
 #include "camera.glsl"
+#include "look.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int LIGHT = 0;
 
@@ -21,13 +22,11 @@ layout(binding = 3) uniform samplerBuffer image;
 layout(binding = 4) uniform samplerBuffer grad_image;
 layout(std430, binding = 5) buffer GradDensity { float_atomic_t grad_density[]; };
 layout(std430, binding = 6) buffer GradTransmittance { float_atomic_t grad_transmittance[]; };  // any tensor without LIGHT
+layout(binding = 7) uniform samplerBuffer look;
 layout(push_constant) uniform Push {
   int width, height, depth;
   int image_width, image_height, views;
   float step_length;
-  float absorption;
-  float ambient;
-  float intensity;
 };
 
 void scatter_density(ivec3 size, vec3 p, float value) {
@@ -61,6 +60,7 @@ void main() {
   const int row = (int(item) / image_width) % image_height;
   const int view = int(item) / (image_width * image_height);
   const ivec3 size = ivec3(width, height, depth);
+  const float absorption = look_absorption(look), ambient = look_ambient(look), intensity = look_intensity(look);
 
   vec3 origin, direction;
   camera_ray(cameras, view, vec2(column, row) + 0.5, origin, direction);

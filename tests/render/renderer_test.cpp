@@ -43,6 +43,44 @@ TEST_P(RendererTest, BackwardMatchesFiniteDifferences) {
   expectRenderBackwardMatchesFiniteDifferences(context(), settings());
 }
 
+// One recording with a device look renders, after each upload of another look, exactly what a fresh
+// recording with those settings renders; its backward pass follows the uploaded look too.
+TEST_F(GpuTest, ADeviceLookChangesTheRenderOfOneRecording) {
+  const GridSize grid{7, 9, 6};
+  const std::vector<Camera> cameras = mixedCameras(grid, 6, 9);
+  const render::ViewSet views = render::uploadViews(context(), cameras);
+  const Tensor volume = randomTensor(context(), {7, 9, 6}, 3, 0.0f, 1.5f);
+  const Tensor gradImages = randomTensor(context(), {views.views, 1, 9, 6}, 4);
+  render::RenderSettings recorded = litSettings();
+  recorded.look = render::lookTensor(context(), recorded);
+  const Tensor images(context(), {views.views, 1, 9, 6}), shadow(context(), {7, 9, 6}), grad(context(), {7, 9, 6});
+  Stream stream(context());
+  render::lightTransmittance(stream, volume, recorded, shadow);
+  render::march(stream, volume, &shadow, views, recorded, images);
+  render::renderBackward(stream, volume, &shadow, views, recorded, images, gradImages, grad);
+
+  render::RenderSettings other = litSettings();
+  other.absorption *= 1.7f;
+  other.ambient = 0.2f;
+  other.light->intensity = 0.4f;
+  other.light->absorption = 0.6f;
+  other.light->direction = {0.8, 0.3, -0.2};
+  for (const render::RenderSettings& look : {other, litSettings()}) {
+    render::uploadLook(recorded.look, look);
+    stream.submit();
+    const Tensor fresh(context(), images.shape()), freshShadow(context(), shadow.shape()), freshGrad(context(), grad.shape());
+    Stream check(context());
+    render::lightTransmittance(check, volume, look, freshShadow);
+    render::march(check, volume, &freshShadow, views, look, fresh);
+    render::renderBackward(check, volume, &freshShadow, views, look, fresh, gradImages, freshGrad);
+    check.submit();
+    EXPECT_TRUE(allClose(images, fresh.download(), {0, 0}));
+    EXPECT_TRUE(allClose(grad, freshGrad.download(), {1e-6, 1e-5}));  // atomics: summation order
+  }
+  EXPECT_EQ(render::lookValues(other)[1], 0.2f);
+  EXPECT_THROW(render::uploadLook(Tensor(context(), {7}), other), Error);
+}
+
 INSTANTIATE_TEST_SUITE_P(LightOffOn, RendererTest, ::testing::Bool(),
                          [](const auto& param) { return param.param ? "Lit" : "Unlit"; });
 
