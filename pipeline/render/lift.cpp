@@ -42,9 +42,9 @@ void liftBackward(Stream& stream, const Tensor& gradLifted, const ViewSet& views
                   const Tensor& gradImages) {
   checkShapes("lift backward", gradImages, gradLifted, views, grid);
   stream.fillZero(gradImages);
-  stream.dispatchFlat(stream.kernel(scatterKernel(stream.context(), "render/lift_adjoint"), kWorkgroup),
-                      {gradLifted, asVec4(views.table), gradImages}, liftPush(grid, views),
-                      static_cast<uint64_t>(gradLifted.numel()));
+  dispatchScatter(stream, stream.kernel(scatterKernel(stream.context(), "render/lift_adjoint"), kWorkgroup),
+                  {gradLifted, asVec4(views.table), gradImages}, liftPush(grid, views),
+                  static_cast<uint64_t>(gradLifted.numel()));
 }
 
 }  // namespace smokesvd::render

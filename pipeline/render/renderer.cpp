@@ -148,10 +148,9 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
   if (!settings.light) {
     stream.fillZero(gradDensity);
     const Tensor unusedShadowGradient(stream.context(), {1});
-    stream.dispatchFlat(stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {0}),
-                        {density, density, asVec4(views.table), images, gradImages, gradDensity, unusedShadowGradient,
-                         look},
-                        push, static_cast<uint64_t>(images.numel()));
+    dispatchScatter(stream, stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {0}),
+                    {density, density, asVec4(views.table), images, gradImages, gradDensity, unusedShadowGradient, look},
+                    push, static_cast<uint64_t>(images.numel()));
     return;
   }
   const Tensor& shadowVolume = requireShadow(shadow, grid, settings);
@@ -159,9 +158,9 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
   Tensor gradShadow(stream.context(), volumeShape(grid));
   stream.fillZero(direct);
   stream.fillZero(gradShadow);
-  stream.dispatchFlat(stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {1}),
-                      {density, shadowVolume, asVec4(views.table), images, gradImages, direct, gradShadow, look}, push,
-                      static_cast<uint64_t>(images.numel()));
+  dispatchScatter(stream, stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {1}),
+                  {density, shadowVolume, asVec4(views.table), images, gradImages, direct, gradShadow, look}, push,
+                  static_cast<uint64_t>(images.numel()));
   stream.dispatchFlat(stream.kernel("render/light_transmittance_adjoint", kWorkgroup),
                       {shadowVolume, gradShadow, direct, gradDensity, look}, lightPush(grid, *settings.light),
                       static_cast<uint64_t>(density.numel()));

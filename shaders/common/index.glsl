@@ -8,8 +8,18 @@
 #ifndef SMOKESVD_INDEX_GLSL
 #define SMOKESVD_INDEX_GLSL
 
+// The workgroup size is specialised (Kernel, constant ids 0-2). Declared here, before the helpers below
+// read gl_WorkGroupSize: glslang folds gl_WorkGroupSize used before this declaration to (1, 1, 1).
+layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
+
 uint flat_index() {
   return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * gl_WorkGroupSize.x);
+}
+
+// The number of invocations of a flat dispatch: a kernel that strides over its items by this visits
+// every item whatever the number of workgroups (one workgroup: all of them, in a fixed order).
+uint flat_invocations() {
+  return gl_NumWorkGroups.x * gl_NumWorkGroups.y * gl_WorkGroupSize.x;
 }
 
 #endif

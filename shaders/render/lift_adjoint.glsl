@@ -2,7 +2,9 @@
 //   grad_images[v, 0, r, c] += grad_lifted[v, z, y, x] * w_(r, c)
 // with w the bilinear weights lift.comp used for voxel (x, y, z) in view v. A scatter (float atomics): the voxels
 // that read one pixel lie along its ray, a set with no regular layout under perspective cameras.
-// grad_images must be zero before the dispatch.
+// grad_images must be zero before the dispatch. The invocations stride over the values, so a single
+// workgroup visits them in a fixed order: a deterministic sum where the device runs one workgroup in
+// order (pipeline/render/atomics.h).
 #include "float_atomic_add.glsl"
 #include "index.glsl"
 #include "camera.glsl"
@@ -21,10 +23,8 @@ void scatter(int view, ivec2 pixel, float value) {
   float_atomic_add(grad_images, (view * image_height + pixel.y) * image_width + pixel.x, value);
 }
 
-void main() {
-  const uint item = flat_index();
+void adjoint_value(uint item) {
   const int voxels = width * height * depth;
-  if (item >= uint(views * voxels)) return;
   const float g = texelFetch(grad_lifted, int(item)).x;
   if (g == 0.0) return;
   const int view = int(item) / voxels;
@@ -40,4 +40,9 @@ void main() {
   scatter(view, base + ivec2(1, 0), g * f.x * (1.0 - f.y));
   scatter(view, base + ivec2(0, 1), g * (1.0 - f.x) * f.y);
   scatter(view, base + ivec2(1, 1), g * f.x * f.y);
+}
+
+void main() {
+  const uint values = uint(views * width * height * depth);
+  for (uint item = flat_index(); item < values; item += flat_invocations()) adjoint_value(item);
 }

@@ -6,7 +6,9 @@
 // and the sample gradients are scattered with the trilinear weights of p_k (float atomics):
 //   grad_density[corner]       += g * dI/dsigma_k * w_corner        (zero padding)
 //   grad_transmittance[corner] += g * intensity * dI/dS_k * w_corner (clamped lookup; LIGHT only)
-// A gather would need every sample's gradient stored ([views, samples, H, W]), hence the scatter.
+// A gather would need every sample's gradient stored ([views, samples, H, W]), hence the scatter. The
+// invocations stride over the pixels, so a single workgroup visits them in a fixed order: a deterministic
+// sum where the device runs one workgroup in order (pipeline/render/atomics.h).
 #include "float_atomic_add.glsl"
 #include "index.glsl"
 #include "sampling.glsl"
@@ -51,9 +53,7 @@ void scatter_transmittance(ivec3 size, vec3 p, float value) {
   }
 }
 
-void main() {
-  const uint item = flat_index();
-  if (item >= uint(views * image_height * image_width)) return;
+void adjoint_ray(uint item) {
   const float g = texelFetch(grad_image, int(item)).x;
   if (g == 0.0) return;
   const int column = int(item) % image_width;
@@ -82,4 +82,9 @@ void main() {
     if (LIGHT != 0) scatter_transmittance(size, p, g * intensity * emitted);
     transmittance = next;
   }
+}
+
+void main() {
+  const uint pixels = uint(views * image_height * image_width);
+  for (uint item = flat_index(); item < pixels; item += flat_invocations()) adjoint_ray(item);
 }

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include "pipeline/render/atomics.h"
+#include "pipeline/render/lift.h"
 #include "pipeline/render/renderer.h"
 #include "runtime/error.h"
 #include "tests/harness/compare.h"
@@ -79,6 +81,34 @@ TEST_F(GpuTest, ADeviceLookChangesTheRenderOfOneRecording) {
   }
   EXPECT_EQ(render::lookValues(other)[1], 0.2f);
   EXPECT_THROW(render::uploadLook(Tensor(context(), {7}), other), Error);
+}
+
+// On CPU devices the scattering adjoints run in a fixed order: the same gradient bit for bit, run after run.
+TEST_F(GpuTest, RenderAndLiftAdjointsAreDeterministicOnCpuDevices) {
+  if (!render::deterministicScatter(context())) GTEST_SKIP() << "this device scatters in any order";
+  const GridSize grid{9, 11, 7};
+  const render::ViewSet views = render::uploadViews(context(), mixedCameras(grid, 7, 11));
+  const Tensor volume = randomTensor(context(), {9, 11, 7}, 5, 0.0f, 1.5f);
+  const Tensor gradImages = randomTensor(context(), {views.views, 1, 11, 7}, 6);
+  const Tensor gradLifted = randomTensor(context(), {views.views, 9, 11, 7}, 7);
+  std::vector<std::vector<float>> gradients, imageGradients;
+  for (int run = 0; run < 3; ++run) {
+    const render::RenderSettings s = litSettings();
+    const Tensor images(context(), gradImages.shape()), shadow(context(), volume.shape()), grad(context(), volume.shape());
+    const Tensor gradImagesOfLift(context(), gradImages.shape());
+    Stream stream(context());
+    render::lightTransmittance(stream, volume, s, shadow);
+    render::march(stream, volume, &shadow, views, s, images);
+    render::renderBackward(stream, volume, &shadow, views, s, images, gradImages, grad);
+    render::liftBackward(stream, gradLifted, views, grid, gradImagesOfLift);
+    stream.submit();
+    gradients.push_back(grad.download());
+    imageGradients.push_back(gradImagesOfLift.download());
+  }
+  EXPECT_EQ(gradients[0], gradients[1]);
+  EXPECT_EQ(gradients[0], gradients[2]);
+  EXPECT_EQ(imageGradients[0], imageGradients[1]);
+  EXPECT_EQ(imageGradients[0], imageGradients[2]);
 }
 
 INSTANTIATE_TEST_SUITE_P(LightOffOn, RendererTest, ::testing::Bool(),
