@@ -6,11 +6,13 @@
 #include <string>
 #include <vector>
 
+#include "runtime/geometry.h"
+
 namespace smokesvd {
 
 struct Preset {
   std::string name;
-  int gridX = 0, gridY = 0, gridZ = 0;  // volume resolution in cells (x, y = up, z)
+  GridSize grid;                        // volume resolution in cells
   int imageWidth = 0, imageHeight = 0;  // rendered view size
   int views = 16;                       // orbit views on [0, 180) degrees
   int frames = 0;                       // frames per simulated scene

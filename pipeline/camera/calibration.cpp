@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <glm/matrix.hpp>
 #include <nlohmann/json.hpp>
 
 #include "runtime/error.h"
@@ -10,6 +11,12 @@ namespace smokesvd {
 namespace {
 
 using nlohmann::json;
+
+// The inverse of an affine 4x4 (last row 0 0 0 1), or nothing if its linear part is singular.
+std::optional<glm::dmat4> inverseAffine(const glm::dmat4& m) {
+  if (std::abs(glm::determinant(glm::dmat3(m))) < 1e-300) return std::nullopt;
+  return glm::inverse(m);
+}
 
 class FieldReader {
  public:
@@ -39,16 +46,18 @@ class FieldReader {
     return result;
   }
 
-  Mat4 matrix(const json& value, const std::string& field) const {
+  // The file writes a matrix as its rows; GLM indexes m[column][row].
+  glm::dmat4 matrix(const json& value, const std::string& field) const {
     if (!value.is_array() || value.size() != 4) fail(field, "a 4x4 matrix (4 rows of 4 numbers)");
-    Mat4 m{};
-    for (std::size_t row = 0; row < 4; ++row) {
-      const std::vector<double> r = numbers(value[row], field + "[" + std::to_string(row) + "]", 4);
-      for (std::size_t col = 0; col < 4; ++col) m[4 * row + col] = r[col];
+    glm::dmat4 m{0.0};
+    for (int row = 0; row < 4; ++row) {
+      const std::string name = field + "[" + std::to_string(row) + "]";
+      const std::vector<double> r = numbers(value[static_cast<std::size_t>(row)], name, 4);
+      for (int col = 0; col < 4; ++col) m[col][row] = r[static_cast<std::size_t>(col)];
     }
-    if (m[12] != 0 || m[13] != 0 || m[14] != 0 || m[15] != 1) fail(field, "an affine matrix (last row 0 0 0 1)");
-    Mat4 inverse;
-    if (!invertAffine(m, inverse)) fail(field, "an invertible matrix");
+    if (m[0][3] != 0 || m[1][3] != 0 || m[2][3] != 0 || m[3][3] != 1)
+      fail(field, "an affine matrix (last row 0 0 0 1)");
+    if (!inverseAffine(m)) fail(field, "an invertible matrix");
     return m;
   }
 
@@ -81,11 +90,12 @@ CalibratedView readView(const FieldReader& reader, const json& entry, const std:
 
 }  // namespace
 
-Mat4 VolumeBox::gridToWorld(const GridSize& grid) const {
-  const Mat4 boxFromGrid = {0, 0, scale[2] / static_cast<double>(grid.depth), 0,
-                            0, scale[1] / static_cast<double>(grid.height), 0, 0,
-                            scale[0] / static_cast<double>(grid.width), 0, 0, 0,
-                            0, 0, 0, 1};
+glm::dmat4 VolumeBox::gridToWorld(const GridSize& grid) const {
+  // Grid (x, y, z) -> box coordinates in tensor order (scale_z z / D, scale_y y / H, scale_x x / W).
+  const glm::dmat4 boxFromGrid = glm::transpose(glm::dmat4(0, 0, scale.z / static_cast<double>(grid.z), 0,  // rows
+                                                           0, scale.y / static_cast<double>(grid.y), 0, 0,
+                                                           scale.x / static_cast<double>(grid.x), 0, 0, 0,
+                                                           0, 0, 0, 1));
   return voxelMatrix * boxFromGrid;
 }
 
@@ -131,33 +141,37 @@ Camera calibratedCamera(const CalibratedView& view, const VolumeBox& box, const 
   const int h = width == 0 ? view.height
                            : std::max(1, static_cast<int>(std::lround(static_cast<double>(w) * view.height / view.width)));
   const double focal = 0.5 * w / std::tan(0.5 * view.cameraAngleX);
-  const Mat4 gridToWorld = box.gridToWorld(grid);
-  Mat4 worldToGrid, worldToCamera;
-  if (!invertAffine(gridToWorld, worldToGrid)) throw Error("calibrated camera: the volume box is degenerate");
-  if (!invertAffine(view.cameraToWorld, worldToCamera))
-    throw Error("calibrated camera '" + view.fileName + "': transform_matrix is singular");
-  const Mat4 cameraToGrid = worldToGrid * view.cameraToWorld;
+  const glm::dmat4 gridToWorld = box.gridToWorld(grid);
+  const std::optional<glm::dmat4> worldToGrid = inverseAffine(gridToWorld);
+  if (!worldToGrid) throw Error("calibrated camera: the volume box is degenerate");
+  const std::optional<glm::dmat4> worldToCamera = inverseAffine(view.cameraToWorld);
+  if (!worldToCamera) throw Error("calibrated camera '" + view.fileName + "': transform_matrix is singular");
+  const glm::dmat4 cameraToGrid = *worldToGrid * view.cameraToWorld;
+  auto point = [&](const Vec3& p) { return Vec3(cameraToGrid * glm::dvec4(p, 1.0)); };
+  auto direction = [&](const Vec3& d) { return Vec3(cameraToGrid * glm::dvec4(d, 0.0)); };
 
   Camera camera;
   camera.width = w;
   camera.height = h;
   camera.perspective = true;
-  camera.origin = transformPoint(cameraToGrid, {0, 0, 0});
-  camera.direction = transformDirection(cameraToGrid, {-0.5 * w / focal, 0.5 * h / focal, -1.0});
-  camera.directionPerU = transformDirection(cameraToGrid, {1.0 / focal, 0, 0});
-  camera.directionPerV = transformDirection(cameraToGrid, {0, -1.0 / focal, 0});
+  camera.origin = point({0, 0, 0});
+  camera.direction = direction({-0.5 * w / focal, 0.5 * h / focal, -1.0});
+  camera.directionPerU = direction({1.0 / focal, 0, 0});
+  camera.directionPerV = direction({0, -1.0 / focal, 0});
   // (a, b, c) = K (camera-space point), K = [[f, 0, -w/2], [0, -f, -h/2], [0, 0, -1]]: u = a / c, v = b / c.
-  const Mat4 intrinsics = {focal, 0, -0.5 * w, 0, 0, -focal, -0.5 * h, 0, 0, 0, -1, 0, 0, 0, 0, 1};
-  const Mat4 projection = intrinsics * worldToCamera * gridToWorld;
-  for (int i = 0; i < 12; ++i) camera.projection[static_cast<std::size_t>(i)] = projection[static_cast<std::size_t>(i)];
+  const glm::dmat4 intrinsics = glm::transpose(glm::dmat4(focal, 0, -0.5 * w, 0,  // rows
+                                                          0, -focal, -0.5 * h, 0,
+                                                          0, 0, -1, 0,
+                                                          0, 0, 0, 1));
+  camera.projection = glm::dmat4x3(intrinsics * *worldToCamera * gridToWorld);
   return camera;
 }
 
 std::array<Vec3, 8> gridCorners(const GridSize& grid) {
   std::array<Vec3, 8> corners{};
   for (std::size_t i = 0; i < 8; ++i)
-    corners[i] = {(i & 1) ? static_cast<double>(grid.width) : 0.0, (i & 2) ? static_cast<double>(grid.height) : 0.0,
-                  (i & 4) ? static_cast<double>(grid.depth) : 0.0};
+    corners[i] = {(i & 1) ? static_cast<double>(grid.x) : 0.0, (i & 2) ? static_cast<double>(grid.y) : 0.0,
+                  (i & 4) ? static_cast<double>(grid.z) : 0.0};
   return corners;
 }
 

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <filesystem>
+#include <glm/mat4x4.hpp>
 #include <string>
 #include <vector>
 
@@ -29,16 +30,16 @@ struct CalibratedView {
   std::string fileName;
   double cameraAngleX = 0;        // horizontal field of view, radians
   int height = 0, width = 0;      // calibrated image size (camera_hw)
-  Mat4 cameraToWorld{};
+  glm::dmat4 cameraToWorld{1.0};
   double frameRate = 0;           // 0 when absent
   int frameCount = 0;             // 0 when absent
 };
 
 struct VolumeBox {
-  Mat4 voxelMatrix = identity4();
+  glm::dmat4 voxelMatrix{1.0};
   Vec3 scale{1, 1, 1};            // metres along box x, y, z
   // Grid coordinates of `grid` -> world (see above).
-  Mat4 gridToWorld(const GridSize& grid) const;
+  glm::dmat4 gridToWorld(const GridSize& grid) const;
 };
 
 struct Calibration {

@@ -16,18 +16,13 @@
 #pragma once
 
 #include <array>
+#include <glm/mat4x3.hpp>
 #include <optional>
 #include <vector>
 
-#include "pipeline/camera/linalg.h"
+#include "runtime/geometry.h"
 
 namespace smokesvd {
-
-struct GridSize {
-  int64_t depth = 0, height = 0, width = 0;  // D = z, H = y, W = x (voxels)
-  Vec3 centre() const { return {0.5 * static_cast<double>(width), 0.5 * static_cast<double>(height),
-                                0.5 * static_cast<double>(depth)}; }
-};
 
 struct Ray {
   Vec3 origin;
@@ -42,8 +37,8 @@ struct Camera {
   Vec3 origin{}, originPerU{}, originPerV{};
   Vec3 direction{}, directionPerU{}, directionPerV{};
   // Grid point p -> (a, b, c) = projection * (p, 1); pixel coordinates (u, v) = (a / c, b / c). c > 0 in
-  // front of the camera (c = 1 for orthographic cameras). Row-major 3 x 4.
-  std::array<double, 12> projection{};
+  // front of the camera (c = 1 for orthographic cameras). 3 rows, 4 columns (GLM names the columns first).
+  glm::dmat4x3 projection{0.0};
 
   Ray ray(double u, double v) const;
   // Pixel coordinates of a grid point, or nothing if it lies behind a perspective camera.

@@ -19,10 +19,10 @@ void requireNoGradient(const Tape& tape, const std::vector<Var>& inputs, const s
       throw Error("op " + op + " has no backward pass (the simulator's forces are not differentiated)");
 }
 
-physics::Vec3 vec3Attr(const OpAttrs& attrs, const std::string& name, const std::string& op) {
+glm::vec3 vec3Attr(const OpAttrs& attrs, const std::string& name, const std::string& op) {
   const std::vector<double> values = render::parseNumberList(attrs.text(name), "op " + op + ": " + name);
   if (values.size() != 3) throw Error("op " + op + ": " + name + " needs three numbers x,y,z, got '" + attrs.text(name) + "'");
-  return {static_cast<float>(values[0]), static_cast<float>(values[1]), static_cast<float>(values[2])};
+  return glm::vec3(values[0], values[1], values[2]);
 }
 
 Tensor flagsOr(Tape& tape, const Var& flags, const Var& velocity, const char* what) {
@@ -53,7 +53,7 @@ std::vector<Var> applyForceField(Tape& tape, const std::vector<Var>& in, const O
 std::vector<Var> applyVorticity(Tape& tape, const std::vector<Var>& in, const OpAttrs& attrs) {
   requireNoGradient(tape, in, "vorticity_confinement");
   const Var &velocity = in[0], &flags = in[1];
-  const physics::GridSize grid = physics::vectorGrid(velocity->value, "vorticity_confinement: velocity");
+  const GridSize grid = physics::vectorGrid(velocity->value, "vorticity_confinement: velocity");
   Tensor vorticity(tape.context(), {4, grid.z, grid.y, grid.x});
   Tensor out(tape.context(), velocity->value.shape());
   physics::vorticityField(tape.stream(), velocity->value, vorticity);

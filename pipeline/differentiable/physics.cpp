@@ -100,7 +100,7 @@ Var velocityToPlanar(Tape& tape, const Var& interleaved) {
 }
 
 Var velocityToInterleaved(Tape& tape, const Var& planar) {
-  const physics::GridSize grid = physics::vectorGrid(planar->value, "velocity to interleaved");
+  const GridSize grid = physics::vectorGrid(planar->value, "velocity to interleaved");
   return linearOp(tape, planar, {grid.z, grid.y, grid.x, 3}, physics::planarToInterleaved,
                   physics::interleavedToPlanar);
 }
@@ -126,7 +126,7 @@ std::vector<Var> applyAdvect(Tape& tape, const std::vector<Var>& in, const OpAtt
   const Var& velocity = in[1];
   const Var& inflow = in[2];
   const Var& flags = in[3];
-  const physics::GridSize grid = physics::vectorGrid(velocity->value, "advect: velocity");
+  const GridSize grid = physics::vectorGrid(velocity->value, "advect: velocity");
   const physics::FlagGrid flagGrid(tape.stream(),
                                    flags ? flags->value : physics::closedBoxFlagsTensor(tape.context(), grid));
   const physics::AdvectionParams params{.scheme = parseOrder(attrs.integer("order")),

@@ -45,7 +45,7 @@ namespace {
 std::vector<Var> applyProject(Tape& tape, const std::vector<Var>& in, const OpAttrs& attrs) {
   const Var& velocity = in[0];
   const Var& flags = in[1];
-  const physics::GridSize grid = physics::vectorGrid(velocity->value, "project: velocity");
+  const GridSize grid = physics::vectorGrid(velocity->value, "project: velocity");
   physics::PressureOptions options;
   options.tolerance = attrs.number("tolerance");
   options.maxIterations = static_cast<int>(attrs.integer("max_iterations"));

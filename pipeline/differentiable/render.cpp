@@ -14,7 +14,7 @@ Var render(Tape& tape, const Var& density, const render::ViewSet& views, const r
   Tensor images(tape.context(), {views.views, 1, views.height, views.width});
   Tensor shadow;
   if (settings.light) {
-    shadow = Tensor(tape.context(), {grid.depth, grid.height, grid.width});
+    shadow = Tensor(tape.context(), grid.volume());
     render::lightTransmittance(tape.stream(), density->value, settings, shadow);
   }
   render::march(tape.stream(), density->value, settings.light ? &shadow : nullptr, views, settings, images);
@@ -31,7 +31,7 @@ Var render(Tape& tape, const Var& density, const render::ViewSet& views, const r
 }
 
 Var lift(Tape& tape, const Var& images, const render::ViewSet& views, const GridSize& grid) {
-  Tensor lifted(tape.context(), {1, views.views, grid.depth, grid.height, grid.width});
+  Tensor lifted(tape.context(), {1, views.views, grid.z, grid.y, grid.x});
   render::lift(tape.stream(), images->value, views, grid, lifted);
   Var out = tape.output(lifted, {images});
   if (out->requiresGrad) {
@@ -88,8 +88,8 @@ render::ViewSet viewsFromAttrs(Context& context, const OpAttrs& attrs, const Gri
   } else {
     const int height = static_cast<int>(attrs.integer("height"));
     cameras = orbitCameras(render::parseNumberList(attrs.text("angles"), "attribute angles"), grid,
-                           width > 0 ? width : static_cast<int>(grid.width),
-                           height > 0 ? height : static_cast<int>(grid.height));
+                           width > 0 ? width : static_cast<int>(grid.x),
+                           height > 0 ? height : static_cast<int>(grid.y));
   }
   return render::uploadViews(context, cameras);
 }
@@ -117,7 +117,7 @@ GridSize gridAttr(const OpAttrs& attrs) {
   const std::vector<int64_t> g = attrs.integers("grid");
   if (g.size() != 3 || g[0] <= 0 || g[1] <= 0 || g[2] <= 0)
     throw Error("op lift: attribute grid must be D,H,W (three positive integers)");
-  return {g[0], g[1], g[2]};
+  return {.x = g[2], .y = g[1], .z = g[0]};
 }
 
 std::vector<AttrSpec> liftAttrs() {

@@ -47,7 +47,7 @@ DensityVolume readDensityVolume(const std::filesystem::path& path, const std::st
   if (shape.size() != 3 || numElements(shape) == 0)
     throw Error(source + ": shape " + toString(array.shape) +
                 " is not a density volume; expected [z, y, x], [z, y, x, 1] or [1, 1, z, y, x]");
-  return {{shape[0], shape[1], shape[2]}, array.toFloat()};
+  return {{.x = shape[2], .y = shape[1], .z = shape[0]}, array.toFloat()};
 }
 
 }  // namespace smokesvd::media

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "pipeline/camera/camera.h"
+#include "runtime/geometry.h"
 
 namespace smokesvd::media {
 

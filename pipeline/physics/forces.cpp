@@ -56,8 +56,8 @@ void addBuoyancy(Stream& stream, const Tensor& flags, const Tensor& density, con
   const GridSize grid = checkedGrid(flags, velocity, out, "buoyancy");
   requireVolume(density, grid, "buoyancy (density)");
   if (temperature) requireVolume(*temperature, grid, "buoyancy (temperature)");
-  auto vec4 = [](const Vec3& v) { return std::array<float, 4>{v[0], v[1], v[2], 0.0f}; };
-  const Vec3 perTemperature = temperature ? buoyancy.perTemperature : Vec3{0, 0, 0};
+  auto vec4 = [](const glm::vec3& v) { return std::array<float, 4>{v.x, v.y, v.z, 0.0f}; };
+  const glm::vec3 perTemperature = temperature ? buoyancy.perTemperature : glm::vec3{0, 0, 0};
   struct {
     GridPush size;
     float dt;

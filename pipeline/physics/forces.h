@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <glm/vec3.hpp>
 
 #include "pipeline/physics/grid.h"
 #include "runtime/stream.h"
@@ -14,14 +15,13 @@
 
 namespace smokesvd::physics {
 
-using Vec3 = std::array<float, 3>;
-
 // u_a += dt·(uniform_a + perDensity_a·ρ̄ + perTemperature_a·T̄), ρ̄ and T̄ averaged over the face's two cells.
 // mantaflow's addBuoyancy(density, gravity, coefficient) is perDensity = −coefficient·gravity.
+// Float, as the kernels take them (smokesvd::Vec3, double, converts with glm::vec3(v)).
 struct Buoyancy {
-  Vec3 uniform{0, 0, 0};         // wind or any uniform acceleration
-  Vec3 perDensity{0, 0, 0};      // acceleration per unit density
-  Vec3 perTemperature{0, 0, 0};  // acceleration per unit temperature (ignored without a temperature field)
+  glm::vec3 uniform{0, 0, 0};         // wind or any uniform acceleration
+  glm::vec3 perDensity{0, 0, 0};      // acceleration per unit density
+  glm::vec3 perTemperature{0, 0, 0};  // acceleration per unit temperature (ignored without a temperature field)
 };
 
 // `temperature` may be null.

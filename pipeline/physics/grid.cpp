@@ -15,7 +15,7 @@ GridSize checkedGrid(int64_t z, int64_t y, int64_t x, const Tensor& tensor, cons
   if (x < kMinSide || y < kMinSide || z < kMinSide)
     throw Error(std::string(what) + ": every side of the grid must be at least " + std::to_string(kMinSide) +
                 " cells, got " + toString(tensor.shape()));
-  return {x, y, z};
+  return {.x = x, .y = y, .z = z};
 }
 
 // The shape without a leading batch axis of 1.

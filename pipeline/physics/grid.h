@@ -14,20 +14,13 @@
 #include <vector>
 
 #include "runtime/context.h"
+#include "runtime/geometry.h"
 #include "runtime/stream.h"
 #include "runtime/tensor.h"
 
 namespace smokesvd::physics {
 
 enum CellFlag : uint32_t { kFluid = 1, kObstacle = 2, kEmpty = 4 };
-
-struct GridSize {
-  int64_t x = 0, y = 0, z = 0;
-  int64_t cells() const { return x * y * z; }
-  Shape volume() const { return {z, y, x}; }     // [D, H, W]
-  Shape vector() const { return {3, z, y, x}; }  // [3, D, H, W]
-  bool operator==(const GridSize&) const = default;
-};
 
 // The grid of a volume [D, H, W] or of a planar vector field [3, D, H, W] (a leading batch of 1 is
 // accepted for both). Throws Error naming `what` for any other shape or a side shorter than 3 cells.

@@ -65,9 +65,11 @@ void requirePaddedOf(const Tensor& tensor, const GridSize& grid, const char* wha
 
 }  // namespace
 
-GridSize paddedGrid(const GridSize& grid) { return {(grid.x + 3) / 4 * 4, grid.y, grid.z}; }
+GridSize paddedGrid(const GridSize& grid) { return {.x = (grid.x + 3) / 4 * 4, .y = grid.y, .z = grid.z}; }
 
-GridSize coarserGrid(const GridSize& grid) { return {(grid.x + 1) / 2, (grid.y + 1) / 2, (grid.z + 1) / 2}; }
+GridSize coarserGrid(const GridSize& grid) {
+  return {.x = (grid.x + 1) / 2, .y = (grid.y + 1) / 2, .z = (grid.z + 1) / 2};
+}
 
 namespace {
 

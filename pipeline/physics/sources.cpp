@@ -73,10 +73,10 @@ CellBox unite(const CellBox& a, const CellBox& b) {
   return box;
 }
 
-std::array<float, 3> normalised(std::array<float, 3> v) {
-  const float length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+glm::vec3 normalised(const glm::vec3& v) {
+  const float length = glm::length(v);
   if (length <= 0) throw Error("inflow source: a cylinder axis must not be zero");
-  return {v[0] / length, v[1] / length, v[2] / length};
+  return v / length;
 }
 
 }  // namespace
@@ -93,7 +93,7 @@ void SourceTable::write(std::span<const SourceState> states) {
   std::vector<float> values(static_cast<std::size_t>(capacity_ * kFloatsPerSource), 0.0f);
   for (std::size_t s = 0; s < states.size(); ++s) {
     const SourceState& state = states[s];
-    const std::array<float, 3> axis = state.shape == SourceShape::Cylinder ? normalised(state.axis) : state.axis;
+    const glm::vec3 axis = state.shape == SourceShape::Cylinder ? normalised(state.axis) : state.axis;
     const float rows[kTexelsPerSource][4] = {
         {state.centre[0], state.centre[1], state.centre[2], static_cast<float>(state.shape)},
         {state.size[0], state.size[1], state.size[2], static_cast<float>(state.mode)},

@@ -25,18 +25,18 @@ enum class InflowMode { Set = 0, Add = 1 };
 // One source at one time; lengths in cells, velocity in cells per step.
 struct SourceState {
   SourceShape shape = SourceShape::Sphere;
-  std::array<float, 3> centre{0, 0, 0};
-  std::array<float, 3> size{1, 1, 1};     // sphere: radius in [0]; box: half extents; cylinder: radius, half height
-  std::array<float, 3> axis{0, 1, 0};     // cylinder axis (normalised when written)
+  glm::vec3 centre{0, 0, 0};
+  glm::vec3 size{1, 1, 1};                // sphere: radius in [0]; box: half extents; cylinder: radius, half height
+  glm::vec3 axis{0, 1, 0};                // cylinder axis (normalised when written)
   InflowMode mode = InflowMode::Set;
   float density = 1.0f;
   float temperature = 0.0f;
   bool setsVelocity = false;
-  std::array<float, 3> velocity{0, 0, 0};
+  glm::vec3 velocity{0, 0, 0};
   float noiseAmplitude = 0.0f;            // density varies by ± this fraction
   float noiseScale = 4.0f;                // cells between noise lattice points
   uint32_t noiseSeed = 0;                 // only the low 24 bits are used
-  std::array<float, 3> noiseOffset{0, 0, 0};
+  glm::vec3 noiseOffset{0, 0, 0};
 };
 
 // Cells [low, high) of a box that holds what some sources cover (empty when low = high).

@@ -15,7 +15,7 @@ namespace smokesvd::render {
 struct ViewCheck {
   std::string fileName;
   Camera camera;                  // at the tile size
-  media::Image frame;                // the video frame, gray, resized to the tile size
+  media::Image frame;             // the video frame, gray, resized to the tile size
   std::array<double, 2> centre{}; // projected box centre, pixel coordinates of the tile
   bool centreInFrame = false;
   float brightnessAtCentre = 0;   // mean frame value in a 5x5 window at the centre (0 when outside)

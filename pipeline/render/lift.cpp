@@ -14,15 +14,15 @@ struct LiftPush {
 };
 
 LiftPush liftPush(const GridSize& g, const ViewSet& v) {
-  return {static_cast<int32_t>(g.width), static_cast<int32_t>(g.height), static_cast<int32_t>(g.depth),
+  return {static_cast<int32_t>(g.x), static_cast<int32_t>(g.y), static_cast<int32_t>(g.z),
           v.width, v.height, v.views};
 }
 
 void checkShapes(const char* op, const Tensor& images, const Tensor& lifted, const ViewSet& views,
                  const GridSize& grid) {
   const Shape imageShape{views.views, 1, views.height, views.width};
-  const Shape liftedShape{views.views, grid.depth, grid.height, grid.width};
-  const Shape batchedShape{1, views.views, grid.depth, grid.height, grid.width};
+  const Shape liftedShape{views.views, grid.z, grid.y, grid.x};
+  const Shape batchedShape{1, views.views, grid.z, grid.y, grid.x};
   if (images.shape() != imageShape)
     throw Error(std::string(op) + ": images must be " + toString(imageShape) + ", got " + toString(images.shape()));
   if (lifted.shape() != liftedShape && lifted.shape() != batchedShape)

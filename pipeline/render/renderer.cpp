@@ -28,15 +28,14 @@ void requireShape(const Tensor& tensor, const Shape& expected, const char* what)
 }
 
 Shape imageShape(const ViewSet& views) { return {views.views, 1, views.height, views.width}; }
-Shape volumeShape(const GridSize& g) { return {g.depth, g.height, g.width}; }
 
 MarchPush marchPush(const GridSize& g, const ViewSet& views, const RenderSettings& s) {
-  return {static_cast<int32_t>(g.width), static_cast<int32_t>(g.height), static_cast<int32_t>(g.depth),
+  return {static_cast<int32_t>(g.x), static_cast<int32_t>(g.y), static_cast<int32_t>(g.z),
           views.width, views.height, views.views, s.step};
 }
 
 LightPush lightPush(const GridSize& g, const DirectionalLight& light) {
-  return {static_cast<int32_t>(g.width), static_cast<int32_t>(g.height), static_cast<int32_t>(g.depth), light.step};
+  return {static_cast<int32_t>(g.x), static_cast<int32_t>(g.y), static_cast<int32_t>(g.z), light.step};
 }
 
 // The settings' own device look, or a fresh one from their fields.
@@ -49,7 +48,7 @@ Tensor deviceLook(Context& context, const RenderSettings& settings) {
 const Tensor& requireShadow(const Tensor* shadow, const GridSize& grid, const RenderSettings& settings) {
   if (!settings.light) throw Error("render: internal: shadow asked for without a light");
   if (shadow == nullptr) throw Error("render: a light needs the light-transmittance volume");
-  requireShape(*shadow, volumeShape(grid), "the light-transmittance volume");
+  requireShape(*shadow, grid.volume(), "the light-transmittance volume");
   return *shadow;
 }
 
@@ -71,7 +70,7 @@ void validate(const RenderSettings& settings) {
     requireFinite(settings.light->step, "light step", true);
     requireFinite(settings.light->absorption, "light absorption", false);
     if (!std::isfinite(settings.light->intensity)) throw Error("render settings: light intensity must be finite");
-    const double n = length(settings.light->direction);
+    const double n = glm::length(settings.light->direction);
     if (!(n > 1e-12) || !std::isfinite(n)) throw Error("render settings: light direction must be a non-zero vector");
   }
 }
@@ -79,7 +78,7 @@ void validate(const RenderSettings& settings) {
 std::vector<float> lookValues(const RenderSettings& settings) {
   std::vector<float> values{settings.absorption, settings.ambient, 0, 0, 0, 0, 0, 0};
   if (settings.light) {
-    const Vec3 l = normalize(settings.light->direction);
+    const Vec3 l = glm::normalize(settings.light->direction);
     values[2] = settings.light->intensity;
     values[3] = settings.light->absorption;
     for (int axis = 0; axis < 3; ++axis) values[static_cast<std::size_t>(4 + axis)] = static_cast<float>(l[axis]);
@@ -102,7 +101,7 @@ void lightTransmittance(Stream& stream, const Tensor& density, const RenderSetti
   validate(settings);
   if (!settings.light) throw Error("render: light transmittance needs a light in the settings");
   const GridSize grid = volumeGrid(density, "render density");
-  requireShape(shadow, volumeShape(grid), "the light-transmittance volume");
+  requireShape(shadow, grid.volume(), "the light-transmittance volume");
   stream.dispatchFlat(stream.kernel("render/light_transmittance", kWorkgroup),
                       {density, shadow, deviceLook(stream.context(), settings)}, lightPush(grid, *settings.light),
                       static_cast<uint64_t>(density.numel()));
@@ -128,7 +127,7 @@ void render(Stream& stream, const Tensor& density, const ViewSet& views, const R
     return;
   }
   const GridSize grid = volumeGrid(density, "render density");
-  Tensor shadow(stream.context(), volumeShape(grid));
+  Tensor shadow(stream.context(), grid.volume());
   lightTransmittance(stream, density, settings, shadow);
   march(stream, density, &shadow, views, settings, images);
 }
@@ -154,8 +153,8 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
     return;
   }
   const Tensor& shadowVolume = requireShadow(shadow, grid, settings);
-  Tensor direct(stream.context(), volumeShape(grid));
-  Tensor gradShadow(stream.context(), volumeShape(grid));
+  Tensor direct(stream.context(), grid.volume());
+  Tensor gradShadow(stream.context(), grid.volume());
   stream.fillZero(direct);
   stream.fillZero(gradShadow);
   dispatchScatter(stream, stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {1}),

@@ -8,8 +8,7 @@ namespace {
 constexpr int kFloatsPerView = 36;
 
 void put(std::vector<float>& out, const Vec3& v, double w) {
-  for (double x : v) out.push_back(static_cast<float>(x));
-  out.push_back(static_cast<float>(w));
+  for (double x : {v.x, v.y, v.z, w}) out.push_back(static_cast<float>(x));
 }
 
 }  // namespace
@@ -34,7 +33,8 @@ ViewSet uploadViews(Context& context, std::span<const Camera> cameras) {
     put(table, c.direction, 0);
     put(table, c.directionPerU, 0);
     put(table, c.directionPerV, 0);
-    for (double x : c.projection) table.push_back(static_cast<float>(x));
+    for (int row = 0; row < 3; ++row)
+      for (int column = 0; column < 4; ++column) table.push_back(static_cast<float>(c.projection[column][row]));
   }
   set.table = Tensor::fromHost(context, {set.views, kFloatsPerView}, table);
   return set;
@@ -47,7 +47,7 @@ GridSize volumeGrid(const Tensor& volume, const char* what) {
   if (!ok || volume.numel() == 0)
     throw Error(std::string(what) + ": expected a volume [D, H, W] (leading dimensions of size 1 allowed), got " +
                 toString(shape));
-  return {shape[shape.size() - 3], shape[shape.size() - 2], shape[shape.size() - 1]};
+  return {.x = shape[shape.size() - 1], .y = shape[shape.size() - 2], .z = shape[shape.size() - 3]};
 }
 
 }  // namespace smokesvd::render

@@ -2,31 +2,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/common.hpp>
 
 namespace smokesvd::sim {
 
-physics::GridSize sceneGrid(const Scene& scene) {
-  return {scene.resolution[0], scene.resolution[1], scene.resolution[2]};
-}
-
 double signedDistance(const Geometry& shape, const Vec3& p) {
-  const Vec3 d{p[0] - shape.centre[0], p[1] - shape.centre[1], p[2] - shape.centre[2]};
-  auto length = [](double x, double y, double z) { return std::sqrt(x * x + y * y + z * z); };
+  const Vec3 d = p - shape.centre;
   switch (shape.kind) {
     case physics::SourceShape::Sphere:
-      return length(d[0], d[1], d[2]) - shape.size[0];
+      return glm::length(d) - shape.size.x;
     case physics::SourceShape::Box: {
-      Vec3 q;
-      for (int a = 0; a < 3; ++a) q[a] = std::abs(d[a]) - shape.size[a];
-      return length(std::max(q[0], 0.0), std::max(q[1], 0.0), std::max(q[2], 0.0)) +
-             std::min(std::max({q[0], q[1], q[2]}), 0.0);
+      const Vec3 q = glm::abs(d) - shape.size;
+      return glm::length(glm::max(q, 0.0)) + std::min(std::max({q.x, q.y, q.z}), 0.0);
     }
     case physics::SourceShape::Cylinder: {
-      const double n = length(shape.axis[0], shape.axis[1], shape.axis[2]);
-      const Vec3 axis{shape.axis[0] / n, shape.axis[1] / n, shape.axis[2] / n};
-      const double along = d[0] * axis[0] + d[1] * axis[1] + d[2] * axis[2];
-      const double radial = length(d[0] - along * axis[0], d[1] - along * axis[1], d[2] - along * axis[2]);
-      const double qx = radial - shape.size[0], qy = std::abs(along) - shape.size[1];
+      const Vec3 axis = shape.axis / glm::length(shape.axis);
+      const double along = glm::dot(d, axis);
+      const double radial = glm::length(d - along * axis);
+      const double qx = radial - shape.size.x, qy = std::abs(along) - shape.size.y;
       return std::hypot(std::max(qx, 0.0), std::max(qy, 0.0)) + std::min(std::max(qx, qy), 0.0);
     }
   }
@@ -34,7 +27,7 @@ double signedDistance(const Geometry& shape, const Vec3& p) {
 }
 
 std::vector<float> sceneFlags(const Scene& scene, int frame) {
-  const physics::GridSize grid = sceneGrid(scene);
+  const GridSize& grid = scene.resolution;
   std::vector<float> flags(static_cast<std::size_t>(grid.cells()));
   const int64_t sides[3] = {grid.x, grid.y, grid.z};
   std::size_t index = 0;

@@ -10,8 +10,6 @@
 
 namespace smokesvd::sim {
 
-physics::GridSize sceneGrid(const Scene& scene);
-
 // Signed distance in cells from p to the shape (negative inside).
 double signedDistance(const Geometry& shape, const Vec3& p);
 

@@ -2,8 +2,8 @@
 
 #include <cstdio>
 
-#include "pipeline/camera/camera.h"
 #include "pipeline/media/image.h"
+#include "pipeline/render/render_images.h"
 #include "pipeline/sim/outputs.h"
 
 namespace smokesvd::sim {
@@ -23,33 +23,21 @@ render::RenderSettings renderSettings(const RenderSpec& spec) {
   return settings;
 }
 
-FrameRenderer::FrameRenderer(Context& context, const Scene& scene) : spec_(scene.render) {
-  const GridSize grid{scene.resolution[2], scene.resolution[1], scene.resolution[0]};
-  const std::vector<Camera> cameras = orbitCameras(orbitAngles(spec_.views), grid, spec_.width, spec_.height);
-  views_ = render::uploadViews(context, cameras);
-  images_ = Tensor(context, {spec_.views, 1, spec_.height, spec_.width});
-}
+FrameRenderer::FrameRenderer(const Scene& scene)
+    : spec_(scene.render),
+      cameras_(orbitCameras(orbitAngles(spec_.views), scene.resolution, spec_.width, spec_.height)) {}
 
-void FrameRenderer::render(const Simulator& simulator) {
-  Stream stream(simulator.density().context());
-  render::render(stream, simulator.density(), views_, renderSettings(spec_), images_);
-  stream.submit();
-}
-
-void FrameRenderer::write(const std::filesystem::path& directory, const Simulator& simulator) {
-  render(simulator);
-  const std::vector<float> pixels = images_.download();
-  const std::size_t perView = static_cast<std::size_t>(spec_.width) * static_cast<std::size_t>(spec_.height);
+void FrameRenderer::write(const std::filesystem::path& directory, const Simulator& simulator) const {
+  const std::vector<media::Image> images =
+      render::renderImages(simulator.density().context(), simulator.density(), cameras_, renderSettings(spec_),
+                           static_cast<float>(spec_.exposure));
   const std::string frame = frameName(simulator.frame() - 1);
-  for (int v = 0; v < spec_.views; ++v) {
-    char view[16];
-    std::snprintf(view, sizeof view, "view_%02d", v);
+  for (std::size_t v = 0; v < images.size(); ++v) {
+    char view[32];
+    std::snprintf(view, sizeof view, "view_%02zu", v);
     const std::filesystem::path folder = directory / "renders" / view;
     std::filesystem::create_directories(folder);
-    media::Image image = media::Image::gray(spec_.width, spec_.height);
-    for (std::size_t i = 0; i < perView; ++i)
-      image.values[i] = pixels[static_cast<std::size_t>(v) * perView + i] * static_cast<float>(spec_.exposure);
-    media::writePng(folder / (frame + ".png"), image, 16);
+    media::writePng(folder / (frame + ".png"), images[v], 16);
   }
 }
 

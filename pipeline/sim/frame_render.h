@@ -1,10 +1,12 @@
 // Renders of every simulated frame: the density seen from the scene's orbit views (evenly on [0°, 180°),
-// orthographic, the renderer of pipeline/render), written as renders/view_VV/NNNN.png, 16-bit gray,
+// orthographic, through render::renderImages), written as renders/view_VV/NNNN.png, 16-bit gray,
 // value = clamp(exposure · radiance, 0, 1).
 #pragma once
 
 #include <filesystem>
+#include <vector>
 
+#include "pipeline/camera/camera.h"
 #include "pipeline/render/renderer.h"
 #include "pipeline/sim/simulator.h"
 
@@ -14,17 +16,13 @@ render::RenderSettings renderSettings(const RenderSpec& spec);
 
 class FrameRenderer {
  public:
-  FrameRenderer(Context& context, const Scene& scene);
-  // Renders the simulator's density into images() [views, 1, height, width].
-  void render(const Simulator& simulator);
-  // render() and the PNGs of the simulator's last completed frame.
-  void write(const std::filesystem::path& directory, const Simulator& simulator);
-  const Tensor& images() const { return images_; }
+  explicit FrameRenderer(const Scene& scene);
+  // The PNGs of the simulator's last completed frame.
+  void write(const std::filesystem::path& directory, const Simulator& simulator) const;
 
  private:
   RenderSpec spec_;
-  render::ViewSet views_;
-  Tensor images_;
+  std::vector<Camera> cameras_;
 };
 
 }  // namespace smokesvd::sim

@@ -100,11 +100,11 @@ std::string JsonField::oneOf(std::initializer_list<const char*> choices) const {
   return v;
 }
 
-std::array<double, 3> JsonField::vec3() const {
+Vec3 JsonField::vec3() const {
   if (!value_->is_array() || value_->size() != 3 ||
       !std::all_of(value_->begin(), value_->end(), [](const nlohmann::json& v) { return v.is_number(); }))
     fail("three numbers [x, y, z]");
-  std::array<double, 3> v{};
+  Vec3 v{};
   for (int a = 0; a < 3; ++a) {
     v[a] = (*value_)[a].get<double>();
     if (!std::isfinite(v[a])) fail("three finite numbers [x, y, z]");
@@ -112,8 +112,8 @@ std::array<double, 3> JsonField::vec3() const {
   return v;
 }
 
-std::array<double, 3> JsonField::positiveVec3() const {
-  const std::array<double, 3> v = value_->is_array() && value_->size() == 3 ? vec3() : std::array<double, 3>{-1, -1, -1};
+Vec3 JsonField::positiveVec3() const {
+  const Vec3 v = value_->is_array() && value_->size() == 3 ? vec3() : Vec3{-1, -1, -1};
   if (!(v[0] > 0 && v[1] > 0 && v[2] > 0)) fail("three positive numbers [x, y, z]");
   return v;
 }

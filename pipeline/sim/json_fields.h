@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "runtime/geometry.h"
+
 namespace smokesvd::sim {
 
 class JsonField {
@@ -37,8 +39,8 @@ class JsonField {
   bool boolean() const;
   std::string string() const;
   std::string oneOf(std::initializer_list<const char*> choices) const;
-  std::array<double, 3> vec3() const;
-  std::array<double, 3> positiveVec3() const;
+  Vec3 vec3() const;
+  Vec3 positiveVec3() const;
 
  private:
   const nlohmann::json* value_;

@@ -11,12 +11,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-io::NpyArray volumeArray(const physics::GridSize& grid, std::vector<float> values) {
+io::NpyArray volumeArray(const GridSize& grid, std::vector<float> values) {
   return io::NpyArray::fromFloats({grid.z, grid.y, grid.x}, std::move(values));
 }
 
 // Planar [3, D, H, W] host values to the file layout [D, H, W, 3].
-io::NpyArray vectorArray(const physics::GridSize& grid, const std::vector<float>& planar) {
+io::NpyArray vectorArray(const GridSize& grid, const std::vector<float>& planar) {
   const std::size_t cells = static_cast<std::size_t>(grid.cells());
   std::vector<float> interleaved(3 * cells);
   for (std::size_t c = 0; c < cells; ++c)
@@ -42,7 +42,7 @@ std::string frameName(int frame) {
 }
 
 void writeFrameFields(const fs::path& directory, const Simulator& simulator) {
-  const physics::GridSize& grid = simulator.grid();
+  const GridSize& grid = simulator.grid();
   const std::string frame = frameName(simulator.frame() - 1);
   const fs::path fields = directory / "fields";
   fs::create_directories(fields);
@@ -55,14 +55,14 @@ void writeFrameFields(const fs::path& directory, const Simulator& simulator) {
 
 void writeFlags(const fs::path& directory, const Simulator& simulator) {
   const std::vector<float> flags = simulator.flags().download();
-  const physics::GridSize& grid = simulator.grid();
+  const GridSize& grid = simulator.grid();
   io::writeNpz(directory / "flags.npz",
                {{"flags", io::NpyArray::fromInts({grid.z, grid.y, grid.x}, std::vector<int32_t>(flags.begin(), flags.end()))}});
 }
 
 void writeCheckpoint(const fs::path& directory, const Simulator& simulator) {
   const SimulatorState state = simulator.state();
-  const physics::GridSize& grid = simulator.grid();
+  const GridSize& grid = simulator.grid();
   std::map<std::string, io::NpyArray> arrays = {
       {"frame", io::NpyArray::fromInts({1}, {state.frame})},
       {"density", volumeArray(grid, state.density)},
@@ -82,8 +82,8 @@ std::optional<SimulatorState> readCheckpoint(const fs::path& directory, const Sc
     if (it == arrays.end()) throw Error(path.string() + ": the checkpoint has no '" + key + "' array");
     return it->second;
   };
-  const physics::GridSize grid{scene.resolution[0], scene.resolution[1], scene.resolution[2]};
-  const Shape volume{grid.z, grid.y, grid.x}, vector{grid.z, grid.y, grid.x, 3};
+  const GridSize& grid = scene.resolution;
+  const Shape volume = grid.volume(), vector{grid.z, grid.y, grid.x, 3};
   for (const char* key : {"density", "pressure"})
     if (member(key).shape != volume)
       throw Error(path.string() + ": '" + key + "' is " + toString(member(key).shape) + ", the scene needs " + toString(volume));

@@ -97,14 +97,14 @@ void drawRender(Draw& draw, const Extent& e, Scene& scene) {
 
 }  // namespace
 
-Scene randomScene(uint64_t seed, const std::array<int64_t, 3>& resolution, int frames) {
+Scene randomScene(uint64_t seed, const GridSize& resolution, int frames) {
   Draw draw(seed);
   Scene scene;
   scene.seed = seed;
   scene.resolution = resolution;
   scene.frames = frames;
-  const Extent e{static_cast<double>(resolution[0]), static_cast<double>(resolution[1]),
-                 static_cast<double>(resolution[2]), static_cast<double>(resolution[0]) / 64.0};
+  const Extent e{static_cast<double>(resolution.x), static_cast<double>(resolution.y),
+                 static_cast<double>(resolution.z), static_cast<double>(resolution.x) / 64.0};
 
   drawSources(draw, e, frames, scene);
   scene.densityBuoyancy = e.scale * draw.uniform(0.035, 0.07);
@@ -136,8 +136,8 @@ Scene randomScene(uint64_t seed, const std::array<int64_t, 3>& resolution, int f
     scene.obstacles.push_back(obstacle);
   }
   drawRender(draw, e, scene);
-  scene.render.width = static_cast<int>(resolution[0]);
-  scene.render.height = static_cast<int>(resolution[1]);
+  scene.render.width = static_cast<int>(resolution.x);
+  scene.render.height = static_cast<int>(resolution.y);
   return scene;
 }
 

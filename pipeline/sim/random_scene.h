@@ -16,6 +16,6 @@
 
 namespace smokesvd::sim {
 
-Scene randomScene(uint64_t seed, const std::array<int64_t, 3>& resolution, int frames);
+Scene randomScene(uint64_t seed, const GridSize& resolution, int frames);
 
 }  // namespace smokesvd::sim

@@ -61,7 +61,7 @@ RunResult runScene(Context& context, const Scene& scene, const fs::path& directo
   }
   if (simulator.frame() == 0) writeFlags(directory, simulator);
   std::optional<FrameRenderer> renderer;
-  if (options.render && scene.render.enabled) renderer.emplace(context, scene);
+  if (options.render && scene.render.enabled) renderer.emplace(scene);
 
   const auto start = std::chrono::steady_clock::now();
   while (simulator.frame() < scene.frames && (options.maxFrames < 0 || result.framesSimulated < options.maxFrames)) {

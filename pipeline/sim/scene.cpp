@@ -145,11 +145,13 @@ RenderSpec readRender(const JsonField& object) {
 
 json toJson(const Vec3& v) { return json::array({v[0], v[1], v[2]}); }
 
+json toJson(double v) { return json(v); }
+
 template <typename T>
 json toJson(const Keyframes<T>& k) {
-  if (k.points.size() == 1) return json(k.points[0].second);
+  if (k.points.size() == 1) return toJson(k.points[0].second);
   json list = json::array();
-  for (const auto& [frame, value] : k.points) list.push_back(json::array({frame, json(value)}));
+  for (const auto& [frame, value] : k.points) list.push_back(json::array({frame, toJson(value)}));
   return list;
 }
 
@@ -205,7 +207,8 @@ Scene parseScene(const json& document, const std::string& name, const std::files
     const JsonField resolution = root.at("resolution");
     const std::vector<JsonField> sides = resolution.items();
     if (sides.size() != 3) resolution.fail("three cell counts [x, y, z]");
-    for (int a = 0; a < 3; ++a) scene.resolution[a] = sides[a].integer(3, kMaxSide);
+    scene.resolution = {.x = sides[0].integer(3, kMaxSide), .y = sides[1].integer(3, kMaxSide),
+                        .z = sides[2].integer(3, kMaxSide)};
   }
   scene.frames = static_cast<int>(root.at("frames").integer(1, kMaxFrames));
   if (std::optional<JsonField> f = root.find("steps_per_frame")) scene.stepsPerFrame = static_cast<int>(f->integer(1, 1000));
@@ -250,8 +253,8 @@ Scene parseScene(const json& document, const std::string& name, const std::files
   if (std::optional<JsonField> list = root.find("sources"))
     for (const JsonField& item : list->items()) scene.sources.push_back(readSource(item));
   if (std::optional<JsonField> render = root.find("render")) scene.render = readRender(*render);
-  if (scene.render.width == 0) scene.render.width = static_cast<int>(scene.resolution[0]);
-  if (scene.render.height == 0) scene.render.height = static_cast<int>(scene.resolution[1]);
+  if (scene.render.width == 0) scene.render.width = static_cast<int>(scene.resolution.x);
+  if (scene.render.height == 0) scene.render.height = static_cast<int>(scene.resolution.y);
   return scene;
 }
 
@@ -270,7 +273,7 @@ Scene readScene(const std::filesystem::path& path) {
 json sceneToJson(const Scene& scene) {
   json root;
   root["seed"] = scene.seed;
-  root["resolution"] = json::array({scene.resolution[0], scene.resolution[1], scene.resolution[2]});
+  root["resolution"] = json::array({scene.resolution.x, scene.resolution.y, scene.resolution.z});
   root["frames"] = scene.frames;
   root["steps_per_frame"] = scene.stepsPerFrame;
   root["dt"] = scene.dt;

@@ -16,10 +16,9 @@
 
 #include "pipeline/physics/advection.h"
 #include "pipeline/physics/sources.h"
+#include "runtime/geometry.h"
 
 namespace smokesvd::sim {
-
-using Vec3 = std::array<double, 3>;
 
 // A value that may change over time: piecewise linear through (frame, value) points, constant before
 // the first and after the last. One point is a constant.
@@ -98,7 +97,7 @@ struct RenderSpec {
 
 struct Scene {
   uint64_t seed = 0;                       // the seed a random scene was drawn with (recorded only)
-  std::array<int64_t, 3> resolution{0, 0, 0};  // cells along x, y (up), z
+  GridSize resolution;                     // cells along x, y (up), z
   int frames = 1;
   int stepsPerFrame = 1;
   double dt = 1;

@@ -11,12 +11,8 @@
 namespace smokesvd::sim {
 namespace {
 
-physics::Vec3 toFloat(const Vec3& v) {
-  return {static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2])};
-}
-
 // A force field file as a planar acceleration [3, D, H, W], scaled.
-Tensor loadForceField(Context& context, const ForceField& field, const physics::GridSize& grid) {
+Tensor loadForceField(Context& context, const ForceField& field, const GridSize& grid) {
   const std::string name = field.file.string();
   const io::NpyArray array =
       field.file.extension() == ".npz" ? io::readNpzMember(field.file, field.key) : io::readNpy(field.file);
@@ -38,7 +34,7 @@ Tensor loadForceField(Context& context, const ForceField& field, const physics::
 Simulator::Simulator(Context& context, const Scene& scene)
     : context_(context),
       scene_(scene),
-      grid_(sceneGrid(scene)),
+      grid_(scene.resolution),
       sources_(context, static_cast<int>(std::max<std::size_t>(scene.sources.size(), 1))) {
   const Shape volume = grid_.volume(), vector = grid_.vector();
   flags_ = Tensor::fromHost(context, volume, sceneFlags(scene_, 0));
@@ -79,14 +75,14 @@ std::vector<physics::SourceState> Simulator::sourceStates(double time) const {
     if (!source.frames.contains(frame_)) continue;
     physics::SourceState s;
     s.shape = source.shape.kind;
-    s.centre = toFloat(source.shape.centre);
-    s.size = toFloat(source.shape.size);
-    s.axis = toFloat(source.shape.axis);
+    s.centre = glm::vec3(source.shape.centre);
+    s.size = glm::vec3(source.shape.size);
+    s.axis = glm::vec3(source.shape.axis);
     s.mode = source.mode;
     s.density = static_cast<float>(source.density.at(time));
     s.temperature = static_cast<float>(source.temperature.at(time));
     s.setsVelocity = source.velocity.has_value();
-    if (source.velocity) s.velocity = toFloat(source.velocity->at(time));
+    if (source.velocity) s.velocity = glm::vec3(source.velocity->at(time));
     s.noiseAmplitude = static_cast<float>(source.noise.amplitude);
     s.noiseScale = static_cast<float>(source.noise.scale);
     s.noiseSeed = source.noise.seed;

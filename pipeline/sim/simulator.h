@@ -41,7 +41,7 @@ class Simulator {
   FrameReport advanceFrame();
   int frame() const { return frame_; }  // frames completed
   const Scene& scene() const { return scene_; }
-  const physics::GridSize& grid() const { return grid_; }
+  const GridSize& grid() const { return grid_; }
 
   const Tensor& flags() const { return flags_; }
   const Tensor& density() const { return density_; }             // [D, H, W]
@@ -60,7 +60,7 @@ class Simulator {
 
   Context& context_;
   Scene scene_;
-  physics::GridSize grid_;
+  GridSize grid_;
   int frame_ = 0;
   Tensor flags_, density_, densityNext_, temperature_, temperatureNext_, velocity_, velocityScratch_[2];
   Tensor densityInflow_, temperatureInflow_, frameInflow_, vorticity_;

@@ -51,7 +51,7 @@ class MantaflowAdvectionTest : public GpuTest {
 // the file repeats the last face; we count the missing face as 0.)
 TEST_F(MantaflowAdvectionTest, CentredVelocityIsTheFaceAverage) {
   Stream stream(context());
-  const physics::GridSize grid = physics::volumeGrid(tensor("flags"), "flags");
+  const GridSize grid = physics::volumeGrid(tensor("flags"), "flags");
   Tensor mac(context(), grid.vector()), centred(context(), grid.vector()), expected(context(), grid.vector());
   physics::interleavedToPlanar(stream, tensor("vel_mac"), mac);
   physics::interleavedToPlanar(stream, tensor("vel_centered"), expected);

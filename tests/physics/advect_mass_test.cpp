@@ -23,7 +23,7 @@
 namespace smokesvd::testing {
 namespace {
 
-const physics::GridSize kGrid{31, 29, 33};
+const GridSize kGrid{.x = 31, .y = 29, .z = 33};
 
 double total(const std::vector<float>& values) { return std::accumulate(values.begin(), values.end(), 0.0); }
 

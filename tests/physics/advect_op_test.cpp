@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const physics::GridSize kGrid{7, 6, 5};
+const GridSize kGrid{.x = 7, .y = 6, .z = 5};
 
 // Self-advection through the tape: the velocity's gradient is the sum of its two roles, and the
 // inflow's is the upstream gradient.

@@ -38,7 +38,7 @@ AdvectionCase<float> randomCase(ReferenceGrid grid, bool mac, bool withInflow, u
   input.mac = mac;
   const int cells = grid.cells();
   const std::vector<float> kinds = randomValues(cells, seed, 0.0f, 1.0f);
-  input.flags = physics::closedBoxFlags({grid.x, grid.y, grid.z});
+  input.flags = physics::closedBoxFlags({.x = grid.x, .y = grid.y, .z = grid.z});
   for (int i = 0; i < cells; ++i) {
     if (input.flags[i] != static_cast<float>(physics::kFluid)) continue;
     if (kinds[i] < 0.08f)
@@ -250,14 +250,14 @@ TEST_F(GpuTest, MacSelfAdvectionMatchesReference) {
 }
 
 TEST_F(GpuTest, AdvectRejectsMismatchedShapes) {
-  const physics::GridSize grid{5, 6, 7};
+  const GridSize grid{.x = 5, .y = 6, .z = 7};
   Stream stream(context());
   const physics::FlagGrid flags(stream, physics::closedBoxFlagsTensor(context(), grid));
   Tensor field(context(), grid.volume());
   Tensor velocity(context(), {3, 7, 6, 4});
   Tensor out(context(), grid.volume());
   EXPECT_THROW(physics::advect(stream, flags, field, velocity, nullptr, {}, out), Error);
-  EXPECT_THROW(physics::FlagGrid(stream, physics::closedBoxFlagsTensor(context(), {2, 6, 7})), Error);
+  EXPECT_THROW(physics::FlagGrid(stream, physics::closedBoxFlagsTensor(context(), {.x = 2, .y = 6, .z = 7})), Error);
 }
 
 }  // namespace

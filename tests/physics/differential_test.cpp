@@ -17,11 +17,10 @@
 namespace smokesvd::testing {
 namespace {
 
-using physics::GridSize;
 using physics::Staggering;
 using Cell = std::array<int, 3>;
 
-const GridSize kGrid{7, 5, 6};
+const GridSize kGrid{.x = 7, .y = 5, .z = 6};
 
 int size(int axis) { return static_cast<int>(axis == 0 ? kGrid.x : axis == 1 ? kGrid.y : kGrid.z); }
 int cells() { return static_cast<int>(kGrid.cells()); }

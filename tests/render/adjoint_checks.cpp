@@ -12,14 +12,14 @@
 namespace smokesvd::testing {
 
 void expectRenderBackwardMatchesFiniteDifferences(Context& context, const render::RenderSettings& s) {
-  const GridSize grid{5, 7, 6};
+  const GridSize grid{.x = 6, .y = 7, .z = 5};
   const std::vector<Camera> cameras = mixedCameras(grid, 6, 7);
   std::vector<float> density, upstream;
-  const Tensor volume = randomTensor(context, {grid.depth, grid.height, grid.width}, 21, 0.0f, 1.5f, &density);
+  const Tensor volume = randomTensor(context, grid.volume(), 21, 0.0f, 1.5f, &density);
   const render::ViewSet views = render::uploadViews(context, cameras);
   const Tensor gradImages = randomTensor(context, {views.views, 1, 7, 6}, 22, -1.0f, 1.0f, &upstream);
   Tensor images(context, {views.views, 1, 7, 6});
-  Tensor shadow(context, {grid.depth, grid.height, grid.width});
+  Tensor shadow(context, grid.volume());
   Tensor gradDensity = poisonedTensor(context, volume.shape());
   Stream stream(context);
   if (s.light) render::lightTransmittance(stream, volume, s, shadow);
@@ -33,14 +33,14 @@ void expectRenderBackwardMatchesFiniteDifferences(Context& context, const render
 }
 
 void expectLiftBackwardMatchesFiniteDifferences(Context& context) {
-  const GridSize grid{5, 7, 9};
+  const GridSize grid{.x = 9, .y = 7, .z = 5};
   const int width = 8, height = 6;
   const std::vector<Camera> cameras = mixedCameras(grid, width, height);
   const render::ViewSet views = render::uploadViews(context, cameras);
   std::vector<float> images, upstream;
   randomTensor(context, {views.views, 1, height, width}, 41, -1, 1, &images);
   const Tensor gradLifted =
-      randomTensor(context, {views.views, grid.depth, grid.height, grid.width}, 42, -1, 1, &upstream);
+      randomTensor(context, {views.views, grid.z, grid.y, grid.x}, 42, -1, 1, &upstream);
   Tensor gradImages = poisonedTensor(context, {views.views, 1, height, width});
   Stream stream(context);
   render::liftBackward(stream, gradLifted, views, grid, gradImages);

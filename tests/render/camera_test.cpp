@@ -33,7 +33,7 @@ TEST(CameraTest, OrbitAnglesAreEvenOnHalfATurn) {
 }
 
 TEST(CameraTest, FrontViewLooksAlongPlusZWithColumnsAlongX) {
-  const GridSize grid{5, 7, 6};
+  const GridSize grid{.x = 6, .y = 7, .z = 5};
   const Camera front = orbitCamera(0, grid, 6, 7);
   const Ray ray = front.ray(2.5, 1.5);  // column 2, row 1
   expectNear(ray.direction, {0, 0, 1});
@@ -47,7 +47,7 @@ TEST(CameraTest, FrontViewLooksAlongPlusZWithColumnsAlongX) {
 }
 
 TEST(CameraTest, SideViewLooksAlongMinusXWithColumnsAlongZ) {
-  const GridSize grid{6, 4, 6};
+  const GridSize grid{.x = 6, .y = 4, .z = 6};
   const Camera side = orbitCamera(90, grid, 6, 4);
   expectNear(side.forward(), {-1, 0, 0}, 1e-12);
   const auto a = side.project({3, 2, 1.5}), b = side.project({3, 2, 4.5});
@@ -57,18 +57,18 @@ TEST(CameraTest, SideViewLooksAlongMinusXWithColumnsAlongZ) {
 }
 
 TEST(CameraTest, OrbitAngleOfAnOrbitCameraIsItsAngle) {
-  const GridSize grid{5, 7, 6};
+  const GridSize grid{.x = 6, .y = 7, .z = 5};
   for (double angle : {0.0, 11.25, 45.0, 90.0, 135.0, 168.75, -30.0})
     EXPECT_NEAR(orbitAngleOf(orbitCamera(angle, grid, 6, 7)), angle, 1e-9);
 }
 
 TEST(CameraTest, RaysAndProjectionAgreeForEveryCameraKind) {
-  const GridSize grid{5, 7, 6};
+  const GridSize grid{.x = 6, .y = 7, .z = 5};
   for (const Camera& camera : mixedCameras(grid, 9, 8)) {
     for (double u : {0.5, 3.25, 8.5})
       for (double v : {0.5, 5.75}) {
         const Ray ray = camera.ray(u, v);
-        EXPECT_NEAR(length(ray.direction), 1.0, 1e-12);
+        EXPECT_NEAR(glm::length(ray.direction), 1.0, 1e-12);
         const auto uv = camera.project(ray.origin + 7.0 * ray.direction);
         ASSERT_TRUE(uv);
         EXPECT_NEAR((*uv)[0], u, 1e-9);
@@ -79,7 +79,7 @@ TEST(CameraTest, RaysAndProjectionAgreeForEveryCameraKind) {
 
 TEST(CameraTest, NerfCameraLooksDownMinusZWithYUp) {
   // World = grid here; camera at (3, 3.5, 20) looking at the grid centre (3, 3.5, 2.5): down world -z.
-  const GridSize grid{5, 7, 6};
+  const GridSize grid{.x = 6, .y = 7, .z = 5};
   const Camera camera = lookAtCamera(grid, {3, 3.5, 20}, 40, 30, 0.6);
   EXPECT_TRUE(camera.perspective);
   expectNear(camera.forward(), {0, 0, -1}, 1e-3);
@@ -147,7 +147,7 @@ TEST(ScalarFlowCalibrationTest, BoxProjectsIntoEveryCameraAndCentreCameraIsTheFr
   if (!fs::exists(info)) GTEST_SKIP() << info << " not present";
   const Calibration calibration = readCalibration(info);
   ASSERT_EQ(calibration.views.size(), 5u);
-  const GridSize grid{64, 96, 64};
+  const GridSize grid{.x = 64, .y = 96, .z = 64};
   for (const CalibratedView& view : calibration.views) {
     const Camera camera = calibratedCamera(view, calibration.box, grid, 270);
     ASSERT_EQ(camera.height, 480);
@@ -169,7 +169,8 @@ TEST(ScalarFlowCalibrationTest, ProjectedBoxCentreLandsOnSmokeInEveryVideo) {
   if (!fs::exists(folder / "info.json")) GTEST_SKIP() << folder << " not present";
   if (!media::findFfmpeg()) GTEST_SKIP() << "ffmpeg not installed";
   const Calibration calibration = readCalibration(folder / "info.json");
-  const std::vector<render::ViewCheck> checks = render::checkCalibration(calibration, folder, 90, 135, {64, 96, 64});
+  const std::vector<render::ViewCheck> checks =
+      render::checkCalibration(calibration, folder, 90, 135, {.x = 64, .y = 96, .z = 64});
   ASSERT_EQ(checks.size(), 5u);
   for (const render::ViewCheck& check : checks) {
     EXPECT_TRUE(check.centreInFrame) << check.fileName;

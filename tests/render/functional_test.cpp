@@ -20,7 +20,7 @@ namespace fs = std::filesystem;
 
 TEST_F(GpuTest, TapeRenderOfRotatedVolumeMatchesFiniteDifferences) {
   // loss = <g, render(rotate(density, 30))>: gradients flow through both ops on the tape.
-  const GridSize grid{5, 6, 5};
+  const GridSize grid{.x = 5, .y = 6, .z = 5};
   const std::vector<Camera> cameras = orbitCameras({0.0, 90.0}, grid, 5, 6);
   const render::RenderSettings s = litSettings();
   std::vector<float> density, upstream;
@@ -41,7 +41,7 @@ TEST_F(GpuTest, TapeRenderOfRotatedVolumeMatchesFiniteDifferences) {
 }
 
 TEST_F(GpuTest, TapeLiftGivesImageGradients) {
-  const GridSize grid{3, 4, 5};
+  const GridSize grid{.x = 5, .y = 4, .z = 3};
   const std::vector<Camera> cameras = orbitCameras({0.0, 45.0}, grid, 5, 4);
   std::vector<float> images, upstream;
   Stream stream(context());
@@ -61,7 +61,7 @@ TEST_F(GpuTest, TapeLiftGivesImageGradients) {
 TEST_F(GpuTest, OpRunnerRendersForwardAndBackward) {
   const fs::path dir = fs::temp_directory_path() / ("smokesvd-op-render-" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  const GridSize grid{5, 7, 6};
+  const GridSize grid{.x = 6, .y = 7, .z = 5};
   const std::vector<float> density = randomValues(5 * 7 * 6, 81, 0, 1);
   const std::vector<float> upstream = randomValues(2 * 7 * 6, 82, -1, 1);
   io::writeNpy(dir / "d.npy", io::NpyArray::fromFloats({5, 7, 6}, density));

@@ -22,12 +22,12 @@ double dotProduct(const std::vector<float>& a, const std::vector<float>& b) {
 }
 
 TEST_F(GpuTest, LiftMatchesReferenceAndTheAdjointIsItsTranspose) {
-  const GridSize grid{5, 7, 9};
+  const GridSize grid{.x = 9, .y = 7, .z = 5};
   const int width = 8, height = 6;
   const std::vector<Camera> cameras = mixedCameras(grid, width, height);
   const render::ViewSet views = render::uploadViews(context(), cameras);
   const Shape imageShape{views.views, 1, height, width};
-  const Shape liftedShape{views.views, grid.depth, grid.height, grid.width};
+  const Shape liftedShape{views.views, grid.z, grid.y, grid.x};
   std::vector<float> images, upstream;
   const Tensor x = randomTensor(context(), imageShape, 41, -1, 1, &images);
   const Tensor y = randomTensor(context(), liftedShape, 42, -1, 1, &upstream);
@@ -46,7 +46,7 @@ TEST_F(GpuTest, LiftMatchesReferenceAndTheAdjointIsItsTranspose) {
 TEST_F(GpuTest, LiftBackwardMatchesFiniteDifferences) { expectLiftBackwardMatchesFiniteDifferences(context()); }
 
 TEST_F(GpuTest, FrontLiftBroadcastsTheImageAlongDepth) {
-  const GridSize grid{3, 4, 5};
+  const GridSize grid{.x = 5, .y = 4, .z = 3};
   std::vector<float> image;
   const Tensor x = randomTensor(context(), {1, 1, 4, 5}, 43, 0, 1, &image);
   const render::ViewSet views = render::uploadViews(context(), orbitCameras({0.0}, grid, 5, 4));
@@ -65,8 +65,8 @@ class RotateTest : public GpuTest, public ::testing::WithParamInterface<double> 
 
 TEST_P(RotateTest, MatchesReferenceAndItsAdjoint) {
   const double angle = GetParam();
-  const GridSize grid{7, 5, 9};
-  const Shape shape{2, grid.depth, grid.height, grid.width};
+  const GridSize grid{.x = 9, .y = 5, .z = 7};
+  const Shape shape{2, grid.z, grid.y, grid.x};
   std::vector<float> volume, upstream;
   const Tensor x = randomTensor(context(), shape, 51, -1, 1, &volume);
   const Tensor y = randomTensor(context(), shape, 52, -1, 1, &upstream);
@@ -88,8 +88,8 @@ TEST_P(RotateTest, MatchesReferenceAndItsAdjoint) {
 INSTANTIATE_TEST_SUITE_P(Angles, RotateTest, ::testing::Values(0.0, 30.0, 90.0, 137.0, -61.0));
 
 TEST_F(GpuTest, RotatedVolumeSeenFromTheFrontIsTheVolumeSeenFromTheOrbitAngle) {
-  const GridSize grid{7, 5, 7};  // square in x-z, so a quarter turn maps the grid onto itself
-  const Shape shape{grid.depth, grid.height, grid.width};
+  const GridSize grid{.x = 7, .y = 5, .z = 7};  // square in x-z, so a quarter turn maps the grid onto itself
+  const Shape shape = grid.volume();
   const Tensor volume = randomTensor(context(), shape, 61, 0, 1);
   Tensor rotated(context(), shape);
   const render::ViewSet front = render::uploadViews(context(), orbitCameras({0.0}, grid, 7, 5));
@@ -105,7 +105,7 @@ TEST_F(GpuTest, RotatedVolumeSeenFromTheFrontIsTheVolumeSeenFromTheOrbitAngle) {
 }
 
 TEST_F(GpuTest, LiftAndRotateRejectBadShapes) {
-  const GridSize grid{3, 4, 5};
+  const GridSize grid{.x = 5, .y = 4, .z = 3};
   const render::ViewSet views = render::uploadViews(context(), orbitCameras({0.0, 90.0}, grid, 5, 4));
   Stream stream(context());
   EXPECT_THROW(render::lift(stream, Tensor(context(), {1, 1, 4, 5}), views, grid, Tensor(context(), {2, 3, 4, 5})),

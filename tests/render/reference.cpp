@@ -10,12 +10,12 @@ namespace {
 double real(int64_t v) { return static_cast<double>(v); }
 
 double at(const std::vector<double>& v, const GridSize& g, int64_t x, int64_t y, int64_t z) {
-  if (x < 0 || y < 0 || z < 0 || x >= g.width || y >= g.height || z >= g.depth) return 0.0;
-  return v[static_cast<std::size_t>((z * g.height + y) * g.width + x)];
+  if (x < 0 || y < 0 || z < 0 || x >= g.x || y >= g.y || z >= g.z) return 0.0;
+  return v[static_cast<std::size_t>((z * g.y + y) * g.x + x)];
 }
 
 bool insidePadded(const Vec3& p, const GridSize& g) {
-  const double size[3] = {static_cast<double>(g.width), static_cast<double>(g.height), static_cast<double>(g.depth)};
+  const double size[3] = {static_cast<double>(g.x), static_cast<double>(g.y), static_cast<double>(g.z)};
   for (int a = 0; a < 3; ++a)
     if (p[a] <= -0.5 || p[a] >= size[a] + 0.5) return false;
   return true;
@@ -23,7 +23,7 @@ bool insidePadded(const Vec3& p, const GridSize& g) {
 
 // [t0, t1] of the ray inside the box [-1/2, N + 1/2], t0 >= 0.
 std::pair<double, double> rayBox(const Ray& ray, const GridSize& g) {
-  const double size[3] = {static_cast<double>(g.width), static_cast<double>(g.height), static_cast<double>(g.depth)};
+  const double size[3] = {static_cast<double>(g.x), static_cast<double>(g.y), static_cast<double>(g.z)};
   double t0 = 0, t1 = 1e300;
   for (int a = 0; a < 3; ++a) {
     const double lo = -0.5, hi = size[a] + 0.5;
@@ -55,8 +55,8 @@ double sampleZero(const std::vector<double>& volume, const GridSize& g, const Ve
 }
 
 double sampleClamped(const std::vector<double>& volume, const GridSize& g, const Vec3& p) {
-  const Vec3 clamped = {std::clamp(p[0], 0.5, real(g.width) - 0.5), std::clamp(p[1], 0.5, real(g.height) - 0.5),
-                        std::clamp(p[2], 0.5, real(g.depth) - 0.5)};
+  const Vec3 clamped = {std::clamp(p[0], 0.5, real(g.x) - 0.5), std::clamp(p[1], 0.5, real(g.y) - 0.5),
+                        std::clamp(p[2], 0.5, real(g.z) - 0.5)};
   const double qx = clamped[0] - 0.5, qy = clamped[1] - 0.5, qz = clamped[2] - 0.5;
   const auto x = static_cast<int64_t>(std::floor(qx)), y = static_cast<int64_t>(std::floor(qy)),
              z = static_cast<int64_t>(std::floor(qz));
@@ -65,19 +65,19 @@ double sampleClamped(const std::vector<double>& volume, const GridSize& g, const
   for (int c = 0; c < 8; ++c) {
     const int dx = c & 1, dy = (c >> 1) & 1, dz = c >> 2;
     const double w = (dx ? ax : 1 - ax) * (dy ? ay : 1 - ay) * (dz ? az : 1 - az);
-    value += w * at(volume, g, std::min(x + dx, g.width - 1), std::min(y + dy, g.height - 1),
-                    std::min(z + dz, g.depth - 1));
+    value += w * at(volume, g, std::min(x + dx, g.x - 1), std::min(y + dy, g.y - 1),
+                    std::min(z + dz, g.z - 1));
   }
   return value;
 }
 
 std::vector<double> lightTransmittance(const std::vector<double>& density, const GridSize& g,
                                        const render::DirectionalLight& light) {
-  const Vec3 l = normalize(light.direction);
+  const Vec3 l = glm::normalize(light.direction);
   std::vector<double> result;
-  for (int z = 0; z < g.depth; ++z)
-    for (int y = 0; y < g.height; ++y)
-      for (int x = 0; x < g.width; ++x) {
+  for (int z = 0; z < g.z; ++z)
+    for (int y = 0; y < g.y; ++y)
+      for (int x = 0; x < g.x; ++x) {
         const Vec3 centre = {x + 0.5, y + 0.5, z + 0.5};
         double optical = 0;
         for (int j = 0;; ++j) {
@@ -124,9 +124,9 @@ std::vector<double> lift(const std::vector<double>& images, const std::vector<Ca
       if (c < 0 || r < 0 || c >= camera.width || r >= camera.height) return 0.0;
       return images[offset + static_cast<std::size_t>(r * camera.width + c)];
     };
-    for (int z = 0; z < g.depth; ++z)
-      for (int y = 0; y < g.height; ++y)
-        for (int x = 0; x < g.width; ++x) {
+    for (int z = 0; z < g.z; ++z)
+      for (int y = 0; y < g.y; ++y)
+        for (int x = 0; x < g.x; ++x) {
           const auto uv = camera.project({x + 0.5, y + 0.5, z + 0.5});
           double value = 0;
           if (uv) {
@@ -147,14 +147,14 @@ std::vector<double> rotate(const std::vector<double>& volume, int64_t channels, 
                            double angleDegrees) {
   const double a = angleDegrees * std::numbers::pi / 180.0, ca = std::cos(a), sa = std::sin(a);
   const Vec3 centre = g.centre();
-  const auto voxels = static_cast<std::size_t>(g.depth * g.height * g.width);
+  const auto voxels = static_cast<std::size_t>(g.z * g.y * g.x);
   std::vector<double> rotated;
   for (int64_t ch = 0; ch < channels; ++ch) {
     const std::vector<double> slice(volume.begin() + static_cast<std::ptrdiff_t>(ch * static_cast<int64_t>(voxels)),
                                     volume.begin() + static_cast<std::ptrdiff_t>((ch + 1) * static_cast<int64_t>(voxels)));
-    for (int z = 0; z < g.depth; ++z)
-      for (int y = 0; y < g.height; ++y)
-        for (int x = 0; x < g.width; ++x) {
+    for (int z = 0; z < g.z; ++z)
+      for (int y = 0; y < g.y; ++y)
+        for (int x = 0; x < g.x; ++x) {
           const Vec3 d = Vec3{x + 0.5, y + 0.5, z + 0.5} - centre;
           const Vec3 source = centre + Vec3{d[0] * ca - d[2] * sa, d[1], d[0] * sa + d[2] * ca};
           rotated.push_back(sampleZero(slice, g, source));

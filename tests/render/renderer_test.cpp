@@ -26,10 +26,10 @@ class RendererTest : public GpuTest, public ::testing::WithParamInterface<bool> 
 };
 
 TEST_P(RendererTest, ForwardMatchesReference) {
-  for (const Scene& scene : {Scene{{5, 7, 6}, 6, 7}, Scene{{9, 11, 7}, 5, 9}}) {
+  for (const Scene& scene : {Scene{{.x = 6, .y = 7, .z = 5}, 6, 7}, Scene{{.x = 7, .y = 11, .z = 9}, 5, 9}}) {
     const std::vector<Camera> cameras = mixedCameras(scene.grid, scene.width, scene.height);
     std::vector<float> density;
-    const Tensor volume = randomTensor(context(), {scene.grid.depth, scene.grid.height, scene.grid.width}, 11, 0.0f,
+    const Tensor volume = randomTensor(context(), scene.grid.volume(), 11, 0.0f,
                                        1.5f, &density);
     const render::ViewSet views = render::uploadViews(context(), cameras);
     Tensor images = poisonedTensor(context(), {views.views, 1, scene.height, scene.width});
@@ -48,7 +48,7 @@ TEST_P(RendererTest, BackwardMatchesFiniteDifferences) {
 // One recording with a device look renders, after each upload of another look, exactly what a fresh
 // recording with those settings renders; its backward pass follows the uploaded look too.
 TEST_F(GpuTest, ADeviceLookChangesTheRenderOfOneRecording) {
-  const GridSize grid{7, 9, 6};
+  const GridSize grid{.x = 6, .y = 9, .z = 7};
   const std::vector<Camera> cameras = mixedCameras(grid, 6, 9);
   const render::ViewSet views = render::uploadViews(context(), cameras);
   const Tensor volume = randomTensor(context(), {7, 9, 6}, 3, 0.0f, 1.5f);
@@ -86,9 +86,9 @@ TEST_F(GpuTest, ADeviceLookChangesTheRenderOfOneRecording) {
 // On CPU devices the scattering adjoints run in a fixed order: the same gradient bit for bit, run after run.
 TEST_F(GpuTest, RenderAndLiftAdjointsAreDeterministicOnCpuDevices) {
   if (!render::deterministicScatter(context())) GTEST_SKIP() << "this device scatters in any order";
-  const GridSize grid{9, 11, 7};
+  const GridSize grid{.x = 7, .y = 11, .z = 9};
   const render::ViewSet views = render::uploadViews(context(), mixedCameras(grid, 7, 11));
-  const Tensor volume = randomTensor(context(), {9, 11, 7}, 5, 0.0f, 1.5f);
+  const Tensor volume = randomTensor(context(), grid.volume(), 5, 0.0f, 1.5f);
   const Tensor gradImages = randomTensor(context(), {views.views, 1, 11, 7}, 6);
   const Tensor gradLifted = randomTensor(context(), {views.views, 9, 11, 7}, 7);
   std::vector<std::vector<float>> gradients, imageGradients;
@@ -115,10 +115,10 @@ INSTANTIATE_TEST_SUITE_P(LightOffOn, RendererTest, ::testing::Bool(),
                          [](const auto& param) { return param.param ? "Lit" : "Unlit"; });
 
 TEST_F(GpuTest, ShadowPassMatchesReference) {
-  const GridSize grid{7, 5, 9};
+  const GridSize grid{.x = 9, .y = 5, .z = 7};
   const render::RenderSettings s = litSettings();
   std::vector<float> density;
-  const Tensor volume = randomTensor(context(), {grid.depth, grid.height, grid.width}, 31, 0.0f, 1.0f, &density);
+  const Tensor volume = randomTensor(context(), grid.volume(), 31, 0.0f, 1.0f, &density);
   Tensor shadow = poisonedTensor(context(), volume.shape());
   Stream stream(context());
   render::lightTransmittance(stream, volume, s, shadow);
@@ -128,7 +128,7 @@ TEST_F(GpuTest, ShadowPassMatchesReference) {
 
 TEST_F(GpuTest, FrontViewColumnsAreVoxelColumns) {
   // One lit voxel column along z at (x = 2, y = 3): the front view shows it at column 2, row H - 1 - 3.
-  const GridSize grid{4, 6, 5};
+  const GridSize grid{.x = 5, .y = 6, .z = 4};
   std::vector<float> density(static_cast<std::size_t>(4 * 6 * 5), 0.0f);
   for (int z = 0; z < 4; ++z) density[static_cast<std::size_t>((z * 6 + 3) * 5 + 2)] = 1.0f;
   const Tensor volume = Tensor::fromHost(context(), {4, 6, 5}, density);
@@ -148,7 +148,7 @@ TEST_F(GpuTest, FrontViewColumnsAreVoxelColumns) {
 }
 
 TEST_F(GpuTest, RendererRejectsBadShapesAndSettings) {
-  const GridSize grid{3, 4, 5};
+  const GridSize grid{.x = 5, .y = 4, .z = 3};
   const Tensor volume(context(), {3, 4, 5});
   const render::ViewSet views = render::uploadViews(context(), orbitCameras({0.0, 90.0}, grid, 5, 4));
   Stream stream(context());

@@ -5,18 +5,17 @@ namespace smokesvd::testing {
 Camera lookAtCamera(const GridSize& grid, const Vec3& eye, int width, int height, double fieldOfViewX) {
   // World = grid coordinates (box scale = grid size, voxel_matrix exchanging x and z back).
   VolumeBox box;
-  box.voxelMatrix = {0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1};
-  box.scale = {static_cast<double>(grid.width), static_cast<double>(grid.height), static_cast<double>(grid.depth)};
-  const Vec3 forward = normalize(grid.centre() - eye);
-  const Vec3 right = normalize(cross(forward, {0, 1, 0}));
-  const Vec3 up = cross(right, forward);
+  box.voxelMatrix = glm::dmat4(0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 1);  // symmetric
+  box.scale = {static_cast<double>(grid.x), static_cast<double>(grid.y), static_cast<double>(grid.z)};
+  const Vec3 forward = glm::normalize(grid.centre() - eye);
+  const Vec3 right = glm::normalize(glm::cross(forward, Vec3{0, 1, 0}));
+  const Vec3 up = glm::cross(right, forward);
   CalibratedView view;
   view.fileName = "synthetic";
   view.cameraAngleX = fieldOfViewX;
   view.width = width;
   view.height = height;
-  view.cameraToWorld = {right[0], up[0], -forward[0], eye[0], right[1], up[1], -forward[1], eye[1],
-                        right[2], up[2], -forward[2], eye[2], 0, 0, 0, 1};
+  view.cameraToWorld = glm::dmat4(glm::dvec4(right, 0), glm::dvec4(up, 0), glm::dvec4(-forward, 0), glm::dvec4(eye, 1));
   return calibratedCamera(view, box, grid);
 }
 

@@ -11,9 +11,8 @@
 namespace smokesvd::testing {
 namespace {
 
-using physics::GridSize;
 
-const GridSize kGrid{8, 11, 7};
+const GridSize kGrid{.x = 8, .y = 11, .z = 7};
 
 std::vector<float> wave(std::size_t count, double phase) {
   std::vector<float> values(count);

@@ -9,7 +9,6 @@
 namespace smokesvd::testing {
 namespace {
 
-using physics::GridSize;
 using ref::Field;
 
 // Odd widths run the one-cell kernels, widths that are a multiple of 4 the block kernels.
@@ -41,7 +40,7 @@ TEST_P(ForcesTest, BuoyancyFromDensityTemperatureAndWind) {
   physics::addBuoyancy(stream, flags, tDensity, &tTemperature, velocity, buoyancy, dt, out);
   physics::addBuoyancy(stream, flags, tDensity, nullptr, velocity, buoyancy, dt, outNoTemperature);
   stream.submit();
-  auto widen3 = [](const physics::Vec3& v) { return ref::Vec3d{v[0], v[1], v[2]}; };
+  auto widen3 = [](const glm::vec3& v) { return ref::Vec3d{v[0], v[1], v[2]}; };
   EXPECT_TRUE(allClose(out, ref::addBuoyancy(view(), ref::widen(density), ref::widen(temperature),
                                              ref::widen(velocityValues), widen3(buoyancy.uniform),
                                              widen3(buoyancy.perDensity), widen3(buoyancy.perTemperature), dt)));
@@ -85,7 +84,9 @@ std::string gridName(const ::testing::TestParamInfo<GridSize>& param) {
   return std::to_string(param.param.x) + "x" + std::to_string(param.param.y) + "x" + std::to_string(param.param.z);
 }
 
-INSTANTIATE_TEST_SUITE_P(Grids, ForcesTest, ::testing::Values(GridSize{11, 15, 9}, GridSize{12, 15, 9}), gridName);
+INSTANTIATE_TEST_SUITE_P(Grids, ForcesTest,
+                         ::testing::Values(GridSize{.x = 11, .y = 15, .z = 9}, GridSize{.x = 12, .y = 15, .z = 9}),
+                         gridName);
 
 }  // namespace
 }  // namespace smokesvd::testing

@@ -14,7 +14,6 @@ namespace {
 
 namespace pressure_ops = physics::pressure_ops;
 using namespace pressure_ops;
-using physics::GridSize;
 using ref::Field;
 using ref::FlagView;
 
@@ -270,7 +269,8 @@ std::string gridName(const ::testing::TestParamInfo<GridSize>& param) {
   return std::to_string(param.param.x) + "x" + std::to_string(param.param.y) + "x" + std::to_string(param.param.z);
 }
 
-INSTANTIATE_TEST_SUITE_P(Grids, PressureKernelTest, ::testing::Values(GridSize{13, 17, 11}, GridSize{16, 15, 9}),
+INSTANTIATE_TEST_SUITE_P(Grids, PressureKernelTest,
+                         ::testing::Values(GridSize{.x = 13, .y = 17, .z = 11}, GridSize{.x = 16, .y = 15, .z = 9}),
                          gridName);
 
 }  // namespace

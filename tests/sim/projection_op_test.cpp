@@ -15,9 +15,8 @@
 namespace smokesvd::testing {
 namespace {
 
-using physics::GridSize;
 
-const GridSize kGrid{13, 17, 11};
+const GridSize kGrid{.x = 13, .y = 17, .z = 11};
 
 // A closed box with an open top and a solid block inside.
 std::vector<float> openTopFlags(const GridSize& grid) {

@@ -10,7 +10,6 @@
 namespace smokesvd::testing {
 namespace {
 
-using physics::GridSize;
 
 enum class Domain { ClosedBox, ClosedWithObstacles, OpenTop, OpenTopWithObstacles };
 
@@ -41,7 +40,7 @@ std::vector<float> domainFlags(const GridSize& grid, Domain domain) {
 class ProjectionTest : public GpuTest, public ::testing::WithParamInterface<Domain> {};
 
 TEST_P(ProjectionTest, LeavesDivergenceUnderTheTolerance) {
-  const GridSize grid{19, 27, 17};
+  const GridSize grid{.x = 19, .y = 27, .z = 17};
   const std::vector<float> flagValues = domainFlags(grid, GetParam());
   const ref::FlagView view(grid, flagValues);
   Tensor flags = Tensor::fromHost(context(), grid.volume(), flagValues);
@@ -82,7 +81,7 @@ TEST_P(ProjectionTest, LeavesDivergenceUnderTheTolerance) {
 }
 
 TEST_P(ProjectionTest, ProjectingTwiceChangesNothing) {
-  const GridSize grid{13, 15, 11};
+  const GridSize grid{.x = 13, .y = 15, .z = 11};
   Tensor flags = Tensor::fromHost(context(), grid.volume(), domainFlags(grid, GetParam()));
   Tensor velocity = randomTensor(context(), grid.vector(), 5, -1, 1);
   Tensor once(context(), grid.vector()), twice(context(), grid.vector());

@@ -36,7 +36,7 @@ std::string parseError(const std::string& text) {
 TEST(SceneJson, RandomScenesRoundTripThroughFiles) {
   const fs::path directory = scratchDirectory("round_trip");
   for (uint64_t seed = 0; seed < 20; ++seed) {
-    const Scene scene = sim::randomScene(seed, {32, 56, 32}, 60);
+    const Scene scene = sim::randomScene(seed, {.x = 32, .y = 56, .z = 32}, 60);
     sim::writeScene(directory / "scene.json", scene);
     EXPECT_EQ(sim::readScene(directory / "scene.json"), scene) << "seed " << seed;
   }
@@ -44,7 +44,7 @@ TEST(SceneJson, RandomScenesRoundTripThroughFiles) {
 
 TEST(SceneJson, EveryFieldRoundTrips) {
   const fs::path directory = scratchDirectory("every_field");
-  Scene scene = sim::randomScene(3, {20, 30, 24}, 12);
+  Scene scene = sim::randomScene(3, {.x = 20, .y = 30, .z = 24}, 12);
   scene.stepsPerFrame = 2;
   scene.dt = 0.5;
   scene.boundaries = {sim::Boundary::Open, sim::Boundary::Wall, sim::Boundary::Wall,
@@ -69,10 +69,10 @@ TEST(SceneJson, EveryFieldRoundTrips) {
   cylinder.shape.axis = {0, 1, 1};
   cylinder.mode = physics::InflowMode::Add;
   cylinder.density.points = {{0, 0.5}, {4, 1.5}, {9.5, 0.25}};
-  cylinder.velocity = sim::Keyframes<sim::Vec3>{{{0, {0, 1, 0}}, {6, {0.5, 0.5, 0}}}};
+  cylinder.velocity = sim::Keyframes<Vec3>{{{0, {0, 1, 0}}, {6, {0.5, 0.5, 0}}}};
   cylinder.frames = {0, 8};
   scene.sources.push_back(cylinder);
-  scene.render.lightDirection = sim::Vec3{-1, 2, -1};
+  scene.render.lightDirection = Vec3{-1, 2, -1};
   scene.render.lightIntensity = 0.8;
   scene.render.views = 4;
   sim::writeScene(directory / "scene.json", scene);
@@ -145,7 +145,7 @@ TEST(SceneKeyframes, PiecewiseLinearAndConstantOutside) {
 
 TEST(SceneDomain, BoundariesAndObstaclesBecomeFlags) {
   Scene scene;
-  scene.resolution = {9, 11, 7};
+  scene.resolution = {.x = 9, .y = 11, .z = 7};
   scene.frames = 10;
   sim::Obstacle sphere;
   sphere.shape.centre = {4.5, 5.5, 3.5};
@@ -165,8 +165,9 @@ TEST(SceneDomain, BoundariesAndObstaclesBecomeFlags) {
 }
 
 TEST(RandomScenes, SameSeedSameSceneOtherSeedOtherScene) {
-  EXPECT_EQ(sim::randomScene(11, {64, 112, 64}, 150), sim::randomScene(11, {64, 112, 64}, 150));
-  EXPECT_NE(sim::randomScene(11, {64, 112, 64}, 150), sim::randomScene(12, {64, 112, 64}, 150));
+  const GridSize paper{.x = 64, .y = 112, .z = 64};
+  EXPECT_EQ(sim::randomScene(11, paper, 150), sim::randomScene(11, paper, 150));
+  EXPECT_NE(sim::randomScene(11, paper, 150), sim::randomScene(12, paper, 150));
 }
 
 // Over many seeds every kind of scene appears, sources stay low in the domain and inside it, and the
@@ -175,12 +176,12 @@ TEST(RandomScenes, TheDistributionCoversPlumesPuffsJetsAndTwoSources) {
   int puffs = 0, jets = 0, twins = 0, lit = 0;
   double minAbsorption = 1e9, maxAbsorption = 0;
   for (uint64_t seed = 0; seed < 200; ++seed) {
-    const Scene scene = sim::randomScene(seed, {32, 56, 32}, 60);
+    const Scene scene = sim::randomScene(seed, {.x = 32, .y = 56, .z = 32}, 60);
     ASSERT_GE(scene.sources.size(), 1u);
     ASSERT_LE(scene.sources.size(), 2u);
     twins += scene.sources.size() == 2;
     for (const sim::Source& source : scene.sources) {
-      const sim::Vec3& centre = source.shape.centre;
+      const Vec3& centre = source.shape.centre;
       EXPECT_GT(centre[0], 0.0);
       EXPECT_LT(centre[0], 32.0);
       EXPECT_GT(centre[2], 0.0);
@@ -189,7 +190,7 @@ TEST(RandomScenes, TheDistributionCoversPlumesPuffsJetsAndTwoSources) {
       EXPECT_LT(centre[1], 0.25 * 56);
       puffs += source.frames.last > 0 && scene.sources.size() == 1;
       if (source.velocity) {
-        const sim::Vec3 v = source.velocity->at(0);
+        const Vec3 v = source.velocity->at(0);
         jets += std::hypot(v[0], v[2]) > 0.1;
       }
     }

@@ -12,7 +12,6 @@
 
 namespace smokesvd::testing::ref {
 
-using physics::GridSize;
 using Field = std::vector<double>;
 
 struct Cell {

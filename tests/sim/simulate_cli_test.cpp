@@ -35,7 +35,7 @@ TEST(SimulateCli, RandomScenesWriteFieldsRendersAndTheirScene) {
   const sim::Scene first = sim::readScene(out / "scene_0000" / "scene.json");
   EXPECT_EQ(first.seed, 9u);
   EXPECT_EQ(first.frames, 2);
-  EXPECT_EQ(first.resolution, (std::array<int64_t, 3>{16, 28, 16}));
+  EXPECT_EQ(first.resolution, (GridSize{.x = 16, .y = 28, .z = 16}));
   EXPECT_EQ(sim::readScene(out / "scene_0001" / "scene.json").seed, 10u);
   EXPECT_NE(result.err.find("frames/s"), std::string::npos) << result.err;
   EXPECT_NE(result.err.find("ETA"), std::string::npos) << result.err;

@@ -31,7 +31,7 @@ fs::path scratchDirectory(const std::string& name) {
 // that sets the velocity and one that adds density, noise, an open top.
 sim::Scene plumeScene(int frames) {
   sim::Scene scene;
-  scene.resolution = {15, 25, 13};
+  scene.resolution = {.x = 15, .y = 25, .z = 13};
   scene.frames = frames;
   scene.densityBuoyancy = 0.02;
   scene.temperatureBuoyancy = 0.01;
@@ -42,7 +42,7 @@ sim::Scene plumeScene(int frames) {
   sphere.shape.size = {2.5, 0, 0};
   sphere.temperature = sim::Keyframes<double>::constant(0.8);
   sphere.noise = {0.4, 2.0, {0, 0.5, 0}, 77};
-  sphere.velocity = sim::Keyframes<sim::Vec3>::constant({0, 0.3, 0});
+  sphere.velocity = sim::Keyframes<Vec3>::constant({0, 0.3, 0});
   sim::Source box;
   box.shape.kind = physics::SourceShape::Box;
   box.shape.centre = {4, 4, 4};
@@ -123,7 +123,7 @@ TEST_F(SimulatorTest, SavedFramesObeyTheAdvectionRelation) {
 TEST_F(SimulatorTest, APlumeRisesAndStaysDivergenceFree) {
   const sim::Scene scene = plumeScene(10);
   sim::Simulator simulator(context(), scene);
-  const physics::GridSize grid = simulator.grid();
+  const GridSize grid = simulator.grid();
   double previousHeight = 0, firstHeight = 0;
   for (int f = 0; f < scene.frames; ++f) {
     const sim::FrameReport report = simulator.advanceFrame();
@@ -166,7 +166,7 @@ TEST_F(SimulatorTest, RunsAreDeterministic) {
 TEST_F(SimulatorTest, ARandomSceneRendersTheSamePlumeForTheSameSeed) {
   const fs::path a = scratchDirectory("seed_a"), b = scratchDirectory("seed_b");
   for (const fs::path& directory : {a, b}) {
-    sim::Scene scene = sim::randomScene(5, {16, 28, 16}, 4);
+    sim::Scene scene = sim::randomScene(5, {.x = 16, .y = 28, .z = 16}, 4);
     scene.render.views = 4;
     sim::runScene(context(), scene, directory, {});
   }

@@ -10,12 +10,11 @@
 namespace smokesvd::testing {
 namespace {
 
-using physics::GridSize;
 using physics::InflowMode;
 using physics::SourceShape;
 using physics::SourceState;
 
-const GridSize kGrid{15, 19, 13};
+const GridSize kGrid{.x = 15, .y = 19, .z = 13};
 
 std::vector<SourceState> testSources() {
   SourceState sphere;

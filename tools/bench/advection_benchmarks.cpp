@@ -16,7 +16,6 @@ namespace smokesvd::bench {
 namespace {
 
 using physics::AdvectionScheme;
-using physics::GridSize;
 
 struct Scene {
   GridSize grid;
@@ -78,7 +77,7 @@ double adjointBytes(const GridSize& grid, int planes, AdvectionScheme scheme) {
 const char* schemeName(AdvectionScheme scheme) { return scheme == AdvectionScheme::SemiLagrangian ? "sl" : "mc"; }
 
 void scalar64(BenchContext& b) {
-  const Scene scene = makeScene(b.context(), {64, 64, 64});
+  const Scene scene = makeScene(b.context(), {.x = 64, .y = 64, .z = 64});
   Tensor out(b.context(), scene.grid.volume());
   physics::AdvectionCache cache;
   Tensor gradOut(b.context(), scene.grid.volume());
@@ -108,7 +107,7 @@ void scalar64(BenchContext& b) {
 }
 
 void paperStep(BenchContext& b) {
-  const Scene scene = makeScene(b.context(), {64, 112, 64});
+  const Scene scene = makeScene(b.context(), {.x = 64, .y = 112, .z = 64});
   const GridSize& grid = scene.grid;
   Tensor density(b.context(), grid.volume()), velocity(b.context(), grid.vector());
   physics::AdvectionCache densityCache, velocityCache;

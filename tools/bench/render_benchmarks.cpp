@@ -13,7 +13,7 @@
 namespace smokesvd::bench {
 namespace {
 
-const GridSize kGrid{64, 112, 64};
+const GridSize kGrid{.x = 64, .y = 112, .z = 64};
 constexpr int kViews = 16, kWidth = 64, kHeight = 112;
 const std::string kShape = "16 views 112x64 of 64x112x64";
 
@@ -28,15 +28,15 @@ render::RenderSettings settings(bool lit) {
 }
 
 Tensor smoke(Context& context) {
-  std::vector<float> values(static_cast<std::size_t>(kGrid.depth * kGrid.height * kGrid.width));
-  for (int z = 0; z < kGrid.depth; ++z)
-    for (int y = 0; y < kGrid.height; ++y)
-      for (int x = 0; x < kGrid.width; ++x) {
+  std::vector<float> values(static_cast<std::size_t>(kGrid.z * kGrid.y * kGrid.x));
+  for (int z = 0; z < kGrid.z; ++z)
+    for (int y = 0; y < kGrid.y; ++y)
+      for (int x = 0; x < kGrid.x; ++x) {
         const double dx = (x - 32.0) / 12.0, dz = (z - 32.0) / 12.0;
-        values[static_cast<std::size_t>((z * kGrid.height + y) * kGrid.width + x)] =
+        values[static_cast<std::size_t>((z * kGrid.y + y) * kGrid.x + x)] =
             static_cast<float>(std::exp(-(dx * dx + dz * dz)) * (y < 100 ? 1.0 : 0.0));
       }
-  return Tensor::fromHost(context, {kGrid.depth, kGrid.height, kGrid.width}, values);
+  return Tensor::fromHost(context, kGrid.volume(), values);
 }
 
 void marchBenchmarks(BenchContext& b, bool lit) {
@@ -89,7 +89,7 @@ void liftRotateBenchmarks(BenchContext& b) {
   Stream fill(context);
   ops::fill(fill, images, 0.5f);
   fill.submit();
-  Tensor lifted(context, {kViews, kGrid.depth, kGrid.height, kGrid.width});
+  Tensor lifted(context, {kViews, kGrid.z, kGrid.y, kGrid.x});
   b.measure("render/lift", kShape, imageBytes + kViews * volumeBytes, 0,
             [&](Stream& st) { render::lift(st, images, views, kGrid, lifted); });
   b.measure("render/lift-adjoint", kShape, imageBytes + kViews * volumeBytes, 0,

@@ -24,7 +24,7 @@ namespace smokesvd::bench {
 namespace {
 
 constexpr int kWallRuns = 5;
-const physics::GridSize kGrid{64, 112, 64};
+const GridSize kGrid{.x = 64, .y = 112, .z = 64};
 const std::string kShape = "64x112x64";
 
 // Median wall time (ns) of `run` over kWallRuns runs after one warm-up.
@@ -43,7 +43,7 @@ double wallMedian(Run&& run) {
 
 // A plume-like state: a smooth swirling velocity (about 1 cell per step) with a rising column, and a
 // density blob; `divergent` adds a non-solenoidal part so that the projection has work to do.
-std::vector<float> plumeVelocity(bool divergent, const physics::GridSize& grid = kGrid) {
+std::vector<float> plumeVelocity(bool divergent, const GridSize& grid = kGrid) {
   const int64_t cells = grid.cells();
   std::vector<float> velocity(static_cast<std::size_t>(3 * cells));
   for (int64_t k = 0; k < grid.z; ++k)
@@ -65,10 +65,10 @@ std::vector<float> plumeVelocity(bool divergent, const physics::GridSize& grid =
 // to 1e-4.
 sim::Scene benchmarkScene() {
   sim::Scene scene;
-  scene.resolution = {kGrid.x, kGrid.y, kGrid.z};
+  scene.resolution = kGrid;
   scene.frames = 1000;
   scene.densityBuoyancy = 0.05;
-  scene.wind = sim::Keyframes<sim::Vec3>::constant({0.005, 0, 0});
+  scene.wind = sim::Keyframes<Vec3>::constant({0.005, 0, 0});
   scene.vorticity = 0.1;
   sim::Source source;
   source.shape.centre = {32, 8, 32};
@@ -82,8 +82,8 @@ sim::Scene benchmarkScene() {
 // cores): a 64x96x64 plume, advection, buoyancy and a pressure solve to 1e-3, nothing else.
 sim::Scene mantaflowComparisonScene() {
   sim::Scene scene = benchmarkScene();
-  scene.resolution = {64, 96, 64};
-  scene.wind = sim::Keyframes<sim::Vec3>::constant({0, 0, 0});
+  scene.resolution = {.x = 64, .y = 96, .z = 64};
+  scene.wind = sim::Keyframes<Vec3>::constant({0, 0, 0});
   scene.vorticity = 0;
   scene.pressureTolerance = 1e-3;
   return scene;
@@ -132,7 +132,7 @@ void projection(BenchContext& b) {
 
 // Median wall time of a frame of `scene` from a rising plume state (one step per frame).
 void timeStep(BenchContext& b, const std::string& name, const std::string& what, const sim::Scene& scene) {
-  const physics::GridSize grid{scene.resolution[0], scene.resolution[1], scene.resolution[2]};
+  const GridSize& grid = scene.resolution;
   sim::Simulator simulator(b.context(), scene);
   sim::SimulatorState state;
   state.velocity = plumeVelocity(false, grid);
@@ -170,7 +170,7 @@ void kernels(BenchContext& b) {
       z(context, kGrid.volume()), w(context, kGrid.volume()), v(context, kGrid.volume()), t(context, kGrid.volume());
   Tensor velocity = Tensor::fromHost(context, kGrid.vector(), plumeVelocity(true)), out(context, kGrid.vector());
   Tensor partials(context, {3 * pressure::startPartialCount(context, kGrid)}), scalars(context, {pressure::kScalarSlots});
-  const physics::GridSize coarse = pressure::coarserGrid(kGrid);
+  const GridSize coarse = pressure::coarserGrid(kGrid);
   Tensor coarseFlags(context, coarse.volume()), coarseMasks(context, coarse.volume()), coarseValues(context, coarse.volume());
   {
     Stream setup(context);

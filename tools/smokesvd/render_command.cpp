@@ -14,11 +14,10 @@
 #include "pipeline/media/image.h"
 #include "pipeline/media/video.h"
 #include "pipeline/preset.h"
-#include "pipeline/render/box_overlay.h"
+#include "pipeline/media/volume_file.h"
 #include "pipeline/render/calibration_check.h"
 #include "pipeline/render/number_list.h"
-#include "pipeline/render/renderer.h"
-#include "pipeline/media/volume_file.h"
+#include "pipeline/render/render_images.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
 
@@ -96,34 +95,6 @@ std::vector<LabelledCamera> camerasFor(const RenderArguments& a, const Preset& p
   return cameras;
 }
 
-// Renders `density` through `cameras`: one dispatch for all views when they share an image size, else one each.
-std::vector<media::Image> renderImages(Context& context, const media::DensityVolume& density,
-                                    const std::vector<Camera>& cameras, const render::RenderSettings& settings,
-                                    float gain) {
-  const Tensor volume = Tensor::fromHost(context, {density.grid.depth, density.grid.height, density.grid.width},
-                                         density.values);
-  bool oneSize = true;
-  for (const Camera& camera : cameras)
-    oneSize = oneSize && camera.width == cameras[0].width && camera.height == cameras[0].height;
-  const std::size_t batch = oneSize ? cameras.size() : 1;
-  std::vector<media::Image> images;
-  for (std::size_t first = 0; first < cameras.size(); first += batch) {
-    const render::ViewSet views = render::uploadViews(context, std::span<const Camera>(&cameras[first], batch));
-    Tensor rendered(context, {views.views, 1, views.height, views.width});
-    Stream stream(context);
-    render::render(stream, volume, views, settings, rendered);
-    stream.submit();
-    const std::vector<float> values = rendered.download();
-    const auto pixels = static_cast<std::size_t>(views.width) * static_cast<std::size_t>(views.height);
-    for (std::size_t v = 0; v < batch; ++v) {
-      media::Image image = media::Image::gray(views.width, views.height);
-      for (std::size_t i = 0; i < pixels; ++i) image.values[i] = gain * values[v * pixels + i];
-      images.push_back(std::move(image));
-    }
-  }
-  return images;
-}
-
 void writeVideoOrFail(const fs::path& path, const std::vector<media::Image>& frames, double fps) {
   media::writeVideo(path, frames, fps);
   std::cout << "wrote " << path.string() << "\n";
@@ -148,12 +119,13 @@ void renderVolumes(const GlobalOptions& global, const RenderArguments& a) {
       cameras.push_back(c.camera);
       labels.push_back(c.label);
     }
-    std::vector<media::Image> images = renderImages(context, density, cameras, settings, a.gain);
+    const Tensor volume = Tensor::fromHost(context, density.grid.volume(), density.values);
+    std::vector<media::Image> images = render::renderImages(context, volume, cameras, settings, a.gain);
     const std::string stem = fs::path(file).stem().string();
     for (std::size_t v = 0; v < images.size(); ++v)
       media::writePng(fs::path(a.out) / (stem + "_" + labels[v] + ".png"), images[v], a.bits);
-    std::cout << file << ": " << images.size() << " views, grid " << density.grid.depth << "x" << density.grid.height
-              << "x" << density.grid.width << " -> " << a.out << "/" << stem << "_*.png\n";
+    std::cout << file << ": " << images.size() << " views, grid " << density.grid.z << "x" << density.grid.y
+              << "x" << density.grid.x << " -> " << a.out << "/" << stem << "_*.png\n";
     if (a.mp4 && a.turntable > 0) writeVideoOrFail(fs::path(a.out) / (stem + "_turntable.mp4"), images, a.fps);
     perVolume.push_back(std::move(images));
   }
@@ -167,10 +139,10 @@ void renderVolumes(const GlobalOptions& global, const RenderArguments& a) {
 }
 
 GridSize overlayGrid(const RenderArguments& a, const Preset& preset) {
-  if (a.grid.empty()) return {preset.gridZ, preset.gridY, preset.gridX};
+  if (a.grid.empty()) return preset.grid;
   const std::vector<double> g = render::parseNumberList(a.grid, "--grid");
   if (g.size() != 3 || g[0] < 1 || g[1] < 1 || g[2] < 1) throw Error("--grid: expected D,H,W (three positive sizes)");
-  return {static_cast<int64_t>(g[0]), static_cast<int64_t>(g[1]), static_cast<int64_t>(g[2])};
+  return {.x = static_cast<int64_t>(g[2]), .y = static_cast<int64_t>(g[1]), .z = static_cast<int64_t>(g[0])};
 }
 
 void calibrationOverlay(const GlobalOptions& global, const RenderArguments& a) {
@@ -181,7 +153,7 @@ void calibrationOverlay(const GlobalOptions& global, const RenderArguments& a) {
   media::DensityVolume density;
   if (a.volumes.empty()) {
     density.grid = overlayGrid(a, smokesvd::preset(a.preset));
-    density.values.assign(static_cast<std::size_t>(density.grid.depth * density.grid.height * density.grid.width), 1.0f);
+    density.values.assign(static_cast<std::size_t>(density.grid.cells()), 1.0f);
   } else {
     density = media::readDensityVolume(a.volumes[0], a.key);
   }
@@ -191,14 +163,11 @@ void calibrationOverlay(const GlobalOptions& global, const RenderArguments& a) {
   for (const render::ViewCheck& check : checks) cameras.push_back(check.camera);
   render::RenderSettings settings = settingsFrom(a);
   Context context(global.contextOptions());
-  const std::vector<media::Image> renders = renderImages(context, density, cameras, settings, a.gain);
+  const Tensor volume = Tensor::fromHost(context, density.grid.volume(), density.values);
+  const std::vector<media::Image> renders = render::renderImages(context, volume, cameras, settings, a.gain);
   std::vector<media::Image> tiles;
   for (std::size_t i = 0; i < checks.size(); ++i) {
-    media::Image rgb = media::toRgb(checks[i].frame);
-    for (int r = 0; r < rgb.height; ++r)
-      for (int c = 0; c < rgb.width; ++c) rgb.at(r, c, 2) = std::min(1.0f, rgb.at(r, c, 2) + 0.5f * renders[i].at(r, c));
-    render::drawProjectedBox(rgb, checks[i].camera, density.grid);
-    tiles.push_back(std::move(rgb));
+    tiles.push_back(render::overlayTile(checks[i].frame, renders[i], checks[i].camera, density.grid));
     std::printf("%s: box centre at pixel (%.1f, %.1f) of %dx%d, %s the frame; frame value there %.3f (frame mean %.3f)\n",
                 checks[i].fileName.c_str(), checks[i].centre[0], checks[i].centre[1], checks[i].camera.width,
                 checks[i].camera.height, checks[i].centreInFrame ? "inside" : "OUTSIDE",

@@ -84,13 +84,11 @@ void simulate(const GlobalOptions& global, const SimulateArguments& args) {
     directories.push_back(out);
   } else {
     const Preset& p = preset(args.preset);
-    std::array<int64_t, 3> resolution{p.gridX, p.gridY, p.gridZ};
+    GridSize resolution = p.grid;
     if (!args.resolution.empty()) {
-      for (int a = 0; a < 3; ++a) {
-        if (args.resolution[a] < 3 || args.resolution[a] > 1024)
-          throw Error("simulate: --resolution sides must be between 3 and 1024 cells");
-        resolution[a] = args.resolution[a];
-      }
+      for (int64_t side : args.resolution)
+        if (side < 3 || side > 1024) throw Error("simulate: --resolution sides must be between 3 and 1024 cells");
+      resolution = {.x = args.resolution[0], .y = args.resolution[1], .z = args.resolution[2]};
     }
     const int frames = args.frames > 0 ? args.frames : p.frames;
     for (int i = 0; i < args.scenes; ++i) {
