@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
 
 #include "runtime/error.h"
 
@@ -34,14 +37,32 @@ double OpAttrs::number(const std::string& name) const { return parse<double>(raw
 
 int64_t OpAttrs::integer(const std::string& name) const { return parse<int64_t>(raw(name), op_, name, "an integer"); }
 
+std::vector<double> parseNumberList(const std::string& text, const std::string& what) {
+  std::vector<double> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    char* end = nullptr;
+    const double value = std::strtod(item.c_str(), &end);
+    if (item.empty() || end == item.c_str() || *end != '\0' || !std::isfinite(value))
+      throw Error(what + ": '" + text + "' is not a comma-separated list of numbers");
+    values.push_back(value);
+  }
+  if (values.empty() || text.back() == ',') throw Error(what + ": '" + text + "' is not a comma-separated list of numbers");
+  return values;
+}
+
+std::vector<double> OpAttrs::numbers(const std::string& name) const {
+  return parseNumberList(raw(name), "op " + op_ + ": attribute " + name);
+}
+
 std::vector<int64_t> OpAttrs::integers(const std::string& name) const {
+  constexpr double kExact = 9007199254740992.0;  // 2^53: every integer up to here is a double
   std::vector<int64_t> values;
-  const std::string& text = raw(name);
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    const std::size_t comma = std::min(text.find(',', start), text.size());
-    values.push_back(parse<int64_t>(text.substr(start, comma - start), op_, name, "a comma-separated integer list"));
-    start = comma + 1;
+  for (double value : numbers(name)) {
+    if (value != std::trunc(value) || std::abs(value) > kExact)
+      throw Error("op " + op_ + ": attribute " + name + "='" + raw(name) + "' is not a comma-separated integer list");
+    values.push_back(static_cast<int64_t>(value));
   }
   return values;
 }

@@ -24,12 +24,18 @@ struct AttrSpec {
 
 // Attribute values as given on the command line (or defaults), parsed on request. Errors name the op
 // and the attribute and say what was expected.
+// "0,22.5,90" -> {0, 22.5, 90}: one or more finite numbers separated by commas. The one parser of number
+// lists, for op attributes (OpAttrs::numbers, OpAttrs::integers) and command-line flags alike; `what` names
+// the flag or attribute in the Error, e.g. "--angles: '0,x' is not a comma-separated list of numbers".
+std::vector<double> parseNumberList(const std::string& text, const std::string& what);
+
 class OpAttrs {
  public:
   OpAttrs(std::string op, std::map<std::string, std::string> values) : op_(std::move(op)), values_(std::move(values)) {}
   double number(const std::string& name) const;
   int64_t integer(const std::string& name) const;
-  std::vector<int64_t> integers(const std::string& name) const;  // "1,2,3"
+  std::vector<double> numbers(const std::string& name) const;    // "0,22.5,90" (parseNumberList)
+  std::vector<int64_t> integers(const std::string& name) const;  // "1,2,3": numbers() that are all integers
   std::string text(const std::string& name) const;
 
  private:

@@ -6,7 +6,6 @@
 
 #include "nets/op_registry.h"
 #include "pipeline/physics/forces.h"
-#include "pipeline/render/number_list.h"
 #include "runtime/error.h"
 
 namespace smokesvd::diff {
@@ -20,7 +19,7 @@ void requireNoGradient(const Tape& tape, const std::vector<Var>& inputs, const s
 }
 
 glm::vec3 vec3Attr(const OpAttrs& attrs, const std::string& name, const std::string& op) {
-  const std::vector<double> values = render::parseNumberList(attrs.text(name), "op " + op + ": " + name);
+  const std::vector<double> values = attrs.numbers(name);
   if (values.size() != 3) throw Error("op " + op + ": " + name + " needs three numbers x,y,z, got '" + attrs.text(name) + "'");
   return glm::vec3(values[0], values[1], values[2]);
 }

@@ -3,7 +3,6 @@
 #include "nets/op_registry.h"
 #include "pipeline/camera/calibration.h"
 #include "pipeline/render/lift.h"
-#include "pipeline/render/number_list.h"
 #include "pipeline/render/rotate.h"
 #include "runtime/error.h"
 
@@ -87,7 +86,7 @@ render::ViewSet viewsFromAttrs(Context& context, const OpAttrs& attrs, const Gri
       cameras.push_back(calibratedCamera(view, calibration.box, grid, width));
   } else {
     const int height = static_cast<int>(attrs.integer("height"));
-    cameras = orbitCameras(render::parseNumberList(attrs.text("angles"), "attribute angles"), grid,
+    cameras = orbitCameras(attrs.numbers("angles"), grid,
                            width > 0 ? width : static_cast<int>(grid.x),
                            height > 0 ? height : static_cast<int>(grid.y));
   }
@@ -100,7 +99,7 @@ render::RenderSettings settingsFromAttrs(const OpAttrs& attrs) {
   s.absorption = static_cast<float>(attrs.number("absorption"));
   s.ambient = static_cast<float>(attrs.number("ambient"));
   if (const std::string light = attrs.text("light"); light != "-") {
-    const std::vector<double> d = render::parseNumberList(light, "attribute light");
+    const std::vector<double> d = attrs.numbers("light");
     if (d.size() != 3) throw Error("op render: attribute light must be three numbers x,y,z");
     render::DirectionalLight l;
     l.direction = {d[0], d[1], d[2]};

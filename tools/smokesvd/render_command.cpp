@@ -10,13 +10,13 @@
 #include <filesystem>
 #include <iostream>
 
+#include "nets/op_registry.h"
 #include "pipeline/camera/calibration.h"
 #include "pipeline/media/image.h"
 #include "pipeline/media/video.h"
-#include "pipeline/preset.h"
 #include "pipeline/media/volume_file.h"
+#include "pipeline/preset.h"
 #include "pipeline/render/calibration_check.h"
-#include "pipeline/render/number_list.h"
 #include "pipeline/render/render_images.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
@@ -54,7 +54,7 @@ render::RenderSettings settingsFrom(const RenderArguments& a) {
   s.absorption = a.absorption;
   s.ambient = a.ambient;
   if (!a.light.empty()) {
-    const std::vector<double> d = render::parseNumberList(a.light, "--light");
+    const std::vector<double> d = parseNumberList(a.light, "--light");
     if (d.size() != 3) throw Error("--light: expected three numbers x,y,z (direction toward the light)");
     s.light = render::DirectionalLight{{d[0], d[1], d[2]}, a.lightIntensity, a.lightStep, a.lightAbsorption};
   }
@@ -90,7 +90,7 @@ std::vector<LabelledCamera> camerasFor(const RenderArguments& a, const Preset& p
     return cameras;
   }
   const std::vector<double> angles = a.angles.empty() ? orbitAngles(a.views > 0 ? a.views : preset.views)
-                                                      : render::parseNumberList(a.angles, "--angles");
+                                                      : parseNumberList(a.angles, "--angles");
   for (double angle : angles) cameras.push_back({angleLabel("a", angle), orbitCamera(angle, grid, width, height)});
   return cameras;
 }
@@ -140,7 +140,7 @@ void renderVolumes(const GlobalOptions& global, const RenderArguments& a) {
 
 GridSize overlayGrid(const RenderArguments& a, const Preset& preset) {
   if (a.grid.empty()) return preset.grid;
-  const std::vector<double> g = render::parseNumberList(a.grid, "--grid");
+  const std::vector<double> g = parseNumberList(a.grid, "--grid");
   if (g.size() != 3 || g[0] < 1 || g[1] < 1 || g[2] < 1) throw Error("--grid: expected D,H,W (three positive sizes)");
   return {.x = static_cast<int64_t>(g[2]), .y = static_cast<int64_t>(g[1]), .z = static_cast<int64_t>(g[0])};
 }
