@@ -1,8 +1,9 @@
 // Cameras: one model for rendering, lifting and evaluation. A Camera is a pixel -> ray map and a point ->
 // pixel projection, both expressed in GRID coordinates, so the kernels never see world space.
 //
-// Grid coordinates: a volume tensor [D, H, W] = [z, y, x] spans the box [0, W] x [0, H] x [0, D]; voxel
-// [i][j][k] (z, y, x) is centred at (k + 1/2, j + 1/2, i + 1/2). y is up. Lengths are in voxels.
+// Grid coordinates (docs/conventions.md): a volume tensor [D, H, W] = [z, y, x] spans the box [0, W] x [0, H] x
+// [0, D]; its element [k][j][i] (x index i, y index j, z index k) is centred at (i + 1/2, j + 1/2, k + 1/2).
+// y is up. Lengths are in voxels.
 // Pixel coordinates: an image is [height, width], row 0 at the top; pixel (row r, column c) is centred
 // at (u, v) = (c + 1/2, r + 1/2).
 //

@@ -1,7 +1,8 @@
 // The simulation grid shared by the physics kernels (docs/conventions.md has the full statement).
 //
-// Volumes are float32 tensors [D, H, W] = [z, y, x], x fastest, cell (i, j, k) centred at
-// (i+½, j+½, k+½) in cell units. Velocity is planar, [3, D, H, W] with component planes x, y, z:
+// Volumes are float32 tensors [D, H, W] = [z, y, x], x fastest; element [k][j][i] is the cell with x index
+// i, y index j, z index k, centred at (i+½, j+½, k+½) in cell units. Velocity is planar, [3, D, H, W]
+// with component planes x, y, z:
 //   - MAC (staggered, mantaflow's layout): plane 0 holds u_x at the lower x-face (i, j+½, k+½),
 //     plane 1 u_y at (i+½, j, k+½), plane 2 u_z at (i+½, j+½, k); the upper face of the last cell
 //     is not stored (it belongs to the wall).
