@@ -6,9 +6,9 @@ namespace smokesvd {
 
 const std::vector<Preset>& presets() {
   static const std::vector<Preset> all = {
-      {"tiny", {.x = 16, .y = 28, .z = 16}, 16, 28, 16, 8},
-      {"small", {.x = 32, .y = 56, .z = 32}, 32, 56, 16, 60},
-      {"paper", {.x = 64, .y = 112, .z = 64}, 64, 112, 16, 150},
+      {"tiny", {.x = 16, .y = 28, .z = 16}, 16, 28, 16, 8, 1.2f},
+      {"small", {.x = 32, .y = 56, .z = 32}, 32, 56, 16, 60, 0.6f},
+      {"paper", {.x = 64, .y = 112, .z = 64}, 64, 112, 16, 150, 0.3f},
   };
   return all;
 }

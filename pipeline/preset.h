@@ -16,6 +16,10 @@ struct Preset {
   int imageWidth = 0, imageHeight = 0;  // rendered view size
   int views = 16;                       // orbit views on [0, 180) degrees
   int frames = 0;                       // frames per simulated scene
+  // The networks' reference absorption per unit density per voxel, 0.3 at 64 cells across and scaled
+  // with the width, so that a density looks the same at every preset. Densities the networks see and
+  // produce are in these units (docs/models.md).
+  float absorption = 0.3f;
 };
 
 // Throws Error listing the known presets if `name` is not one.

@@ -14,12 +14,16 @@ Bottleneck::Bottleneck(Context& context, BottleneckOptions o) : options_(o) {
     throw Error("Bottleneck: channel counts must be positive");
   const int64_t mid = std::max(o.outChannels / 4, o.minMid);
   const int stride = o.downsample ? 2 : 1;
+  // A fresh block is its skip connection: the branch ends in a zero-initialised convolution and the skip
+  // keeps the variance (LeCun), so activations neither grow nor vanish through an unnormalised stack.
   reduce_ = addChild("reduce", std::make_shared<modules::Conv>(context, o.dims, o.inChannels, mid, 1));
   conv_ = addChild("conv", std::make_shared<modules::Conv>(context, o.dims, mid, mid, 3,
                                                            modules::ConvOptions{stride, 1}));
-  expand_ = addChild("expand", std::make_shared<modules::Conv>(context, o.dims, mid, o.outChannels, 1));
-  skip_ = addChild("skip", std::make_shared<modules::Conv>(context, o.dims, o.inChannels, o.outChannels,
-                                                           o.downsample ? 2 : 1, modules::ConvOptions{stride, 0}));
+  expand_ = addChild("expand", std::make_shared<modules::Conv>(context, o.dims, mid, o.outChannels, 1,
+                                                               modules::ConvOptions{1, 0, true, modules::WeightInit::Zero}));
+  skip_ = addChild("skip", std::make_shared<modules::Conv>(
+                               context, o.dims, o.inChannels, o.outChannels, o.downsample ? 2 : 1,
+                               modules::ConvOptions{stride, 0, true, modules::WeightInit::Lecun}));
 }
 
 Var Bottleneck::forward(Tape& tape, const Var& x) {

@@ -6,7 +6,8 @@
 //
 // a = LeakyReLU(negativeSlope); reduce: 1^d conv in -> mid; conv: 3^d conv mid -> mid (padding 1);
 // expand: 1^d conv mid -> out; skip: 1^d conv in -> out (2^d, stride 2 when downsampling). mid is
-// max(out / 4, minMid). A block costs about a sixth of a conv-norm-activation pair of the same width,
+// max(out / 4, minMid). A fresh block is its skip: expand starts at zero and skip keeps the variance
+// (LeCun-uniform), so that an unnormalised stack of blocks starts neither exploding nor vanishing. A block costs about a sixth of a conv-norm-activation pair of the same width,
 // because the 3^d convolution runs at a quarter of the channels. Parameter names: reduce, conv,
 // expand, skip (each .weight and .bias).
 #pragma once

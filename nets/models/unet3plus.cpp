@@ -31,9 +31,10 @@ UNet3Plus::UNet3Plus(Context& context, UNet3PlusConfig config) : config_(std::mo
   };
 
   stem_ = addChild("stem", std::make_shared<modules::Conv>(context, c.dims, c.inChannels, c.filters[0], 3,
-                                                           modules::ConvOptions{1, 1}));
+                                                           modules::ConvOptions{1, 1, true, modules::WeightInit::Lecun}));
   if (c.presenceSlots > 0)
-    presence_ = addChild("presence", std::make_shared<modules::Linear>(context, c.presenceSlots, c.filters[0]));
+    presence_ = addChild("presence", std::make_shared<modules::Linear>(context, c.presenceSlots, c.filters[0], true,
+                                                                       modules::WeightInit::Lecun));
 
   auto down = addChild("down", std::make_shared<modules::ModuleList>());
   for (int l = 1; l < levels; ++l) down_.push_back(down->add(block(c.filters[l - 1], c.filters[l], true)));
@@ -54,7 +55,8 @@ UNet3Plus::UNet3Plus(Context& context, UNet3PlusConfig config) : config_(std::mo
   auto heads = addChild("heads", std::make_shared<modules::ModuleList>());
   for (int k = 0; k < levels; ++k) {
     const int64_t in = k < levels - 1 ? fused : c.filters.back();
-    heads_.push_back(heads->add(std::make_shared<modules::Conv>(context, c.dims, in, c.outChannels, 1)));
+    heads_.push_back(heads->add(std::make_shared<modules::Conv>(context, c.dims, in, c.outChannels, 1,
+                                                                modules::ConvOptions{1, 0, true, modules::WeightInit::Lecun})));
   }
 }
 

@@ -35,6 +35,7 @@ class SplitMix {
 Init Init::weight(WeightInit scheme, int64_t fanIn) {
   if (scheme == WeightInit::Zero) return constant(0.0);
   const auto fan = static_cast<double>(fanIn);
+  if (scheme == WeightInit::Lecun) return uniform(std::sqrt(3.0 / fan));
   return uniform(scheme == WeightInit::He ? std::sqrt(6.0 / fan) : 1.0 / std::sqrt(fan));
 }
 

@@ -20,9 +20,11 @@ namespace smokesvd::modules {
 //   TorchDefault  U(-b, b), b = 1 / sqrt(fan_in) for weights and biases alike: what torch.nn.Conv*d and
 //                 Linear do on construction (kaiming_uniform_ with a = sqrt 5), for exact parity of
 //                 distributions with a freshly built PyTorch model.
+//   Lecun         U(-b, b), b = sqrt(3 / fan_in), variance 1 / fan_in: keeps the variance of a linear map
+//                 (skip connections and output heads without an activation in front); biases 0.
 //   Zero          weights and biases 0: the last layer of a residual branch or of a denoiser, so that a
 //                 fresh network starts as the identity (or predicts zero), as DDPM's zero-initialised convs.
-enum class WeightInit { He, TorchDefault, Zero };
+enum class WeightInit { He, TorchDefault, Lecun, Zero };
 
 // A parameter's rule: every value `value` (Constant), or uniform on [-bound, bound) (Uniform).
 struct Init {

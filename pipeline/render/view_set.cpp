@@ -13,12 +13,9 @@ void put(std::vector<float>& out, const Vec3& v, double w) {
 
 }  // namespace
 
-ViewSet uploadViews(Context& context, std::span<const Camera> cameras) {
-  if (cameras.empty()) throw Error("render views: no cameras given");
-  ViewSet set;
-  set.views = static_cast<int>(cameras.size());
-  set.width = cameras[0].width;
-  set.height = cameras[0].height;
+namespace {
+
+std::vector<float> cameraTable(const ViewSet& set, std::span<const Camera> cameras) {
   std::vector<float> table;
   table.reserve(cameras.size() * kFloatsPerView);
   for (std::size_t i = 0; i < cameras.size(); ++i) {
@@ -36,8 +33,26 @@ ViewSet uploadViews(Context& context, std::span<const Camera> cameras) {
     for (int row = 0; row < 3; ++row)
       for (int column = 0; column < 4; ++column) table.push_back(static_cast<float>(c.projection[column][row]));
   }
-  set.table = Tensor::fromHost(context, {set.views, kFloatsPerView}, table);
+  return table;
+}
+
+}  // namespace
+
+ViewSet uploadViews(Context& context, std::span<const Camera> cameras) {
+  if (cameras.empty()) throw Error("render views: no cameras given");
+  ViewSet set;
+  set.views = static_cast<int>(cameras.size());
+  set.width = cameras[0].width;
+  set.height = cameras[0].height;
+  set.table = Tensor::fromHost(context, {set.views, kFloatsPerView}, cameraTable(set, cameras));
   return set;
+}
+
+void rewriteViews(const ViewSet& views, std::span<const Camera> cameras) {
+  if (static_cast<int>(cameras.size()) != views.views)
+    throw Error("render views: " + std::to_string(cameras.size()) + " cameras for a table of " +
+                std::to_string(views.views) + " views");
+  views.table.upload(cameraTable(views, cameras));
 }
 
 GridSize volumeGrid(const Tensor& volume, const char* what) {

@@ -17,6 +17,9 @@ struct ViewSet {
 
 // Uploads `cameras` (at least one; all with the same image size, else Error).
 ViewSet uploadViews(Context& context, std::span<const Camera> cameras);
+// Uploads other cameras (as many, of the same image size) into the table, so that a recording made
+// with `views` renders from them at its next submit.
+void rewriteViews(const ViewSet& views, std::span<const Camera> cameras);
 
 // The grid size of a volume tensor [..., D, H, W] whose leading dimensions are all 1 (Error naming `what`
 // and the shape otherwise).

@@ -1,0 +1,28 @@
+#include "pipeline/networks/density_generator.h"
+
+#include "nets/functional/broadcast.h"
+#include "pipeline/differentiable/render.h"
+#include "pipeline/networks/view_slots.h"
+#include "runtime/error.h"
+
+namespace smokesvd::networks {
+
+DensityGenerator::DensityGenerator(Context& context, const models::UNet3PlusConfig& config, const Preset& preset)
+    : grid_(presetGrid(preset)) {
+  if (config.dims != 3 || config.inChannels != kSlots || config.outChannels != 1 || config.presenceSlots != kSlots)
+    throw Error("G_rho: the architecture must be 3D with 16 input channels, 1 output and 16 presence slots");
+  net_ = std::make_shared<models::UNet3Plus>(context, config);
+  const std::vector<Camera> cameras = slotCameras(preset);
+  views_ = render::uploadViews(context, cameras);
+}
+
+DensityOutput DensityGenerator::forward(Tape& tape, const Var& images, const Var& presence, bool deepSupervision) {
+  const Shape volume = grid_.volume();
+  const models::UNet3PlusOutput out =
+      net_->forward(tape, diff::lift(tape, images, views_, grid_), fn::reshape(tape, presence, {1, kSlots}), deepSupervision);
+  DensityOutput result{fn::reshape(tape, out.output, volume), {}};
+  for (const Var& head : out.supervision) result.supervision.push_back(fn::reshape(tape, head, volume));
+  return result;
+}
+
+}  // namespace smokesvd::networks
