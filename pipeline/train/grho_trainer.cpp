@@ -17,19 +17,19 @@ namespace smokesvd::train {
 
 using networks::kSlots;
 
-GrhoTrainer::GrhoTrainer(Context& context, const NetworkConfig& config, const dataset::SceneDataset& data)
+GrhoTrainer::GrhoTrainer(Context& context, const networks::NetworkConfig& config, const dataset::SceneDataset& data)
     : context_(context), config_(config), data_(data),
       generator_(context, models::unet3PlusFromJson(config.model, config.source + " [model]"), data.preset()),
       look_(context) {
   const std::string lossWhere = config.source + " [loss]", optionsWhere = config.source + " [options]";
   models::requireKnownKeys(config.loss, {"density", "render_input", "render_unseen", "deep_supervision"}, lossWhere);
   models::requireKnownKeys(config.options, {"views", "extra_view_probability"}, optionsWhere);
-  weights_ = {number(config.loss, "density", lossWhere), number(config.loss, "render_input", lossWhere),
-              number(config.loss, "render_unseen", lossWhere), number(config.loss, "deep_supervision", lossWhere)};
-  const std::string views = text(config.options, "views", optionsWhere);
+  weights_ = {networks::number(config.loss, "density", lossWhere), networks::number(config.loss, "render_input", lossWhere),
+              networks::number(config.loss, "render_unseen", lossWhere), networks::number(config.loss, "deep_supervision", lossWhere)};
+  const std::string views = networks::text(config.options, "views", optionsWhere);
   if (views != "fine" && views != "coarse") throw Error(optionsWhere + ": 'views' must be \"fine\" or \"coarse\"");
   fine_ = views == "fine";
-  extraViewProbability_ = number(config.options, "extra_view_probability", optionsWhere);
+  extraViewProbability_ = networks::number(config.options, "extra_view_probability", optionsWhere);
   const Preset& p = data.preset();
   density_ = variable(Tensor(context, {p.grid.z, p.grid.y, p.grid.x}));
   presence_ = variable(Tensor(context, {kSlots}));

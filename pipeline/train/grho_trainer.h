@@ -12,14 +12,14 @@
 #include "pipeline/dataset/scene_dataset.h"
 #include "pipeline/networks/density_generator.h"
 #include "pipeline/train/look_slot.h"
-#include "pipeline/train/network_config.h"
+#include "pipeline/networks/network_config.h"
 #include "pipeline/train/trainer.h"
 
 namespace smokesvd::train {
 
 class GrhoTrainer : public StageTrainer {
  public:
-  GrhoTrainer(Context& context, const NetworkConfig& config, const dataset::SceneDataset& data);
+  GrhoTrainer(Context& context, const networks::NetworkConfig& config, const dataset::SceneDataset& data);
 
   modules::Module& model() override { return generator_.net(); }
   std::vector<std::string> variants() const override { return {"unlit", "lit"}; }
@@ -44,7 +44,7 @@ class GrhoTrainer : public StageTrainer {
   std::vector<bool> drawCoarseViews(diffusion::Gaussian& random) const;
 
   Context& context_;
-  NetworkConfig config_;
+  networks::NetworkConfig config_;
   const dataset::SceneDataset& data_;
   Weights weights_{};
   bool fine_ = true;

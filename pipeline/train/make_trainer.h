@@ -8,12 +8,12 @@
 #include <memory>
 
 #include "pipeline/dataset/scene_dataset.h"
-#include "pipeline/train/network_config.h"
+#include "pipeline/networks/network_config.h"
 #include "pipeline/train/trainer.h"
 
 namespace smokesvd::train {
 
-std::unique_ptr<StageTrainer> makeTrainer(Context& context, const NetworkConfig& config,
+std::unique_ptr<StageTrainer> makeTrainer(Context& context, const networks::NetworkConfig& config,
                                           const dataset::SceneDataset& data, const std::filesystem::path& models);
 
 }  // namespace smokesvd::train

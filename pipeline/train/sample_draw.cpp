@@ -30,7 +30,7 @@ FrameDraw drawFrames(const std::vector<dataset::SceneEntry>& scenes, int frames,
   return {scene, firstAtLeast + static_cast<int>(pick(span))};
 }
 
-Augmentation drawAugmentation(const DataSettings& data, diffusion::Gaussian& random) {
+Augmentation drawAugmentation(const networks::DataSettings& data, diffusion::Gaussian& random) {
   Augmentation a;
   const double u = random.uniform(), v = random.uniform();
   a.mirror = data.mirror && u < 0.5;

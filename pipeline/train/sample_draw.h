@@ -6,7 +6,7 @@
 
 #include "nets/diffusion/gaussian.h"
 #include "pipeline/dataset/scene_dataset.h"
-#include "pipeline/train/network_config.h"
+#include "pipeline/networks/network_config.h"
 
 namespace smokesvd::train {
 
@@ -23,7 +23,7 @@ struct FrameDraw {
 };
 FrameDraw drawFrames(const std::vector<dataset::SceneEntry>& scenes, int frames, int firstAtLeast,
                      diffusion::Gaussian& random);
-Augmentation drawAugmentation(const DataSettings& data, diffusion::Gaussian& random);
+Augmentation drawAugmentation(const networks::DataSettings& data, diffusion::Gaussian& random);
 
 // The k-th of `count` validation samples: scenes in turn, frames spread over each scene.
 FrameDraw validationFrames(const std::vector<dataset::SceneEntry>& scenes, int k, int count, int frames, int firstAtLeast);

@@ -74,9 +74,9 @@ diffusion::Gaussian stepRandom(uint64_t seed, int64_t step) {
   return diffusion::Gaussian(seed * 0x9e3779b97f4a7c15ull ^ (static_cast<uint64_t>(step) + 0x632be59bd9b4e019ull));
 }
 
-TrainingResult runTraining(Context& context, StageTrainer& trainer, const NetworkConfig& config,
+TrainingResult runTraining(Context& context, StageTrainer& trainer, const networks::NetworkConfig& config,
                            const TrainingOptions& options) {
-  const TrainSettings& t = config.train;
+  const networks::TrainSettings& t = config.train;
   if (t.checkpointEvery % t.logEvery != 0)
     throw Error(config.source + " [train]: 'checkpoint_every' must be a multiple of 'log_every', so that a resumed run "
                 "logs what an uninterrupted one logs");
@@ -214,7 +214,7 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const Networ
     }
     if (done % t.checkpointEvery == 0 || done == t.steps) {
       optim::saveCheckpoint(checkpointPath, parameters, adam, &ema,
-                            {{"network", networkName(config.network)}, {"seconds", std::to_string(seconds())}});
+                            {{"network", networks::networkName(config.network)}, {"seconds", std::to_string(seconds())}});
       plotLosses(out / "loss.png", losses, 3);
       writeText(out / "run.json", nlohmann::json{{"complete", false}, {"steps", done}, {"seconds", seconds()}}.dump(2) + "\n");
     }
@@ -228,10 +228,10 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const Networ
 
   const std::string flops = std::to_string(trainer.forwardFlops() * 1e-9);
   io::writeSafetensors(modelPath, io::downloadNamed(ema.namedShadows()),
-                       {{"network", networkName(config.network)}, {"preset", config.preset},
+                       {{"network", networks::networkName(config.network)}, {"preset", config.preset},
                         {"steps", std::to_string(result.steps)}, {"format", "smokesvd-model"}});
   std::ostringstream card;
-  card << "# " << networkName(config.network) << " (" << config.preset << " preset)\n\n"
+  card << "# " << networks::networkName(config.network) << " (" << config.preset << " preset)\n\n"
        << "- Architecture: `config.json` section `model` (docs/models.md); " << model.parameterCount()
        << " parameters; " << flops << " GFLOP per forward pass.\n"
        << "- Data: " << trainer.dataSummary() << ".\n"

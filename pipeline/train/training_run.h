@@ -16,7 +16,7 @@
 #include <functional>
 #include <string>
 
-#include "pipeline/train/network_config.h"
+#include "pipeline/networks/network_config.h"
 #include "pipeline/train/trainer.h"
 #include "runtime/context.h"
 
@@ -40,7 +40,7 @@ struct TrainingResult {
   std::vector<Metric> validation;  // the last validation
 };
 
-TrainingResult runTraining(Context& context, StageTrainer& trainer, const NetworkConfig& config,
+TrainingResult runTraining(Context& context, StageTrainer& trainer, const networks::NetworkConfig& config,
                            const TrainingOptions& options);
 
 }  // namespace smokesvd::train

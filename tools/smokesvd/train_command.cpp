@@ -10,7 +10,7 @@
 #include "pipeline/dataset/scene_dataset.h"
 #include "pipeline/preset.h"
 #include "pipeline/train/make_trainer.h"
-#include "pipeline/train/network_config.h"
+#include "pipeline/networks/network_config.h"
 #include "pipeline/train/progress.h"
 #include "pipeline/train/training_run.h"
 #include "runtime/error.h"
@@ -28,14 +28,14 @@ struct TrainArguments {
 };
 
 void train(const GlobalOptions& global, const TrainArguments& args) {
-  const train::Network network = train::parseNetwork(args.network);
+  const networks::Network network = networks::parseNetwork(args.network);
   if (!args.config.empty() && args.presetGiven)
     throw Error("train: a --config file names its own preset; give --preset or --config, not both");
   if (args.resume && args.overwrite) throw Error("train: --resume and --overwrite contradict each other");
-  train::NetworkConfig config =
-      args.config.empty() ? train::defaultNetworkConfig(args.preset, network) : train::readNetworkConfig(args.config);
+  networks::NetworkConfig config =
+      args.config.empty() ? networks::defaultNetworkConfig(args.preset, network) : networks::readNetworkConfig(args.config);
   if (config.network != network)
-    throw Error(args.config + ": configures " + train::networkName(config.network) + ", not " + args.network);
+    throw Error(args.config + ": configures " + networks::networkName(config.network) + ", not " + args.network);
   if (args.steps > 0) config.train.steps = args.steps;
   if (config.train.warmup >= config.train.steps) config.train.warmup = config.train.steps / 10;
 

@@ -1,14 +1,14 @@
-#include "pipeline/train/network_config.h"
+#include "pipeline/networks/network_config.h"
 
 #include <fstream>
 #include <map>
 
 #include "nets/models/model_json.h"
 #include "pipeline/preset.h"
-#include "pipeline/train/embedded_configs.h"
+#include "pipeline/networks/embedded_configs.h"
 #include "runtime/error.h"
 
-namespace smokesvd::train {
+namespace smokesvd::networks {
 namespace {
 
 using nlohmann::json;
@@ -175,4 +175,4 @@ json toJson(const NetworkConfig& c) {
           {"options", c.options}};
 }
 
-}  // namespace smokesvd::train
+}  // namespace smokesvd::networks

@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace smokesvd::train {
+namespace smokesvd::networks {
 
 enum class Network { GrhoCoarse, GrhoFine, NvRef, Gu, SvDiff, SvDiffInit };
 
@@ -63,4 +63,4 @@ int64_t integer(const nlohmann::json& section, const std::string& key, const std
 bool flag(const nlohmann::json& section, const std::string& key, const std::string& where);
 std::string text(const nlohmann::json& section, const std::string& key, const std::string& where);
 
-}  // namespace smokesvd::train
+}  // namespace smokesvd::networks

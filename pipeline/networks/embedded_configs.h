@@ -6,8 +6,8 @@
 #include <string>
 #include <string_view>
 
-namespace smokesvd::train {
+namespace smokesvd::networks {
 
 const std::map<std::string, std::string_view>& embeddedConfigs();
 
-}  // namespace smokesvd::train
+}  // namespace smokesvd::networks
