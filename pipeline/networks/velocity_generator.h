@@ -26,7 +26,7 @@ class VelocityGenerator {
 
  private:
   std::shared_ptr<models::UNet3Plus> net_;
-  int64_t depth_, height_, width_;
+  GridSize grid_;
 };
 
 }  // namespace smokesvd::networks

@@ -58,11 +58,11 @@ GuTrainer::GuTrainer(Context& context, const networks::NetworkConfig& config, co
       throw Error(s.directory.string() + ": G_u trains on scenes of one step of dt 1 per frame, all with one advection scheme");
   advection_.scheme = data.training()[0].scene.advection;
   advection_.strength = static_cast<float>(data.training()[0].scene.advectionStrength);
-  current_ = variable(Tensor(context, {p.gridZ, p.gridY, p.gridX}));
-  next_ = variable(Tensor(context, {p.gridZ, p.gridY, p.gridX}));
-  inflow_ = variable(Tensor(context, {p.gridZ, p.gridY, p.gridX}));
-  flags_ = variable(Tensor(context, {p.gridZ, p.gridY, p.gridX}));
-  velocity_ = variable(Tensor(context, {3, p.gridZ, p.gridY, p.gridX}));
+  current_ = variable(Tensor(context, {p.grid.z, p.grid.y, p.grid.x}));
+  next_ = variable(Tensor(context, {p.grid.z, p.grid.y, p.grid.x}));
+  inflow_ = variable(Tensor(context, {p.grid.z, p.grid.y, p.grid.x}));
+  flags_ = variable(Tensor(context, {p.grid.z, p.grid.y, p.grid.x}));
+  velocity_ = variable(Tensor(context, {3, p.grid.z, p.grid.y, p.grid.x}));
   generator_.net().initialize(0x6775);
 }
 
