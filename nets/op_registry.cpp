@@ -1,18 +1,18 @@
 #include "nets/op_registry.h"
 
-#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
 
 #include "runtime/error.h"
+#include "runtime/name_registry.h"
 
 namespace smokesvd {
 namespace {
 
-std::vector<OpSpec>& registry() {
-  static std::vector<OpSpec> all;
+NameRegistry<OpSpec>& registry() {
+  static NameRegistry<OpSpec> all("op");
   return all;
 }
 
@@ -69,19 +69,12 @@ std::vector<int64_t> OpAttrs::integers(const std::string& name) const {
 
 std::string OpAttrs::text(const std::string& name) const { return raw(name); }
 
-bool registerOp(OpSpec spec) {
-  registry().push_back(std::move(spec));
-  return true;
-}
+bool registerOp(OpSpec spec) { return registry().add(std::move(spec)); }
 
-const std::vector<OpSpec>& registeredOps() {
-  std::sort(registry().begin(), registry().end(), [](const OpSpec& a, const OpSpec& b) { return a.name < b.name; });
-  return registry();
-}
+const std::vector<OpSpec>& registeredOps() { return registry().all(); }
 
 const OpSpec& findOp(const std::string& name) {
-  for (const OpSpec& spec : registeredOps())
-    if (spec.name == name) return spec;
+  if (const OpSpec* spec = registry().find(name)) return *spec;
   throw Error("unknown op '" + name + "' (smokesvd op --list shows them all)");
 }
 

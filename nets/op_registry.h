@@ -54,6 +54,7 @@ struct OpSpec {
   std::function<std::vector<Var>(Tape&, const std::vector<Var>& inputs, const OpAttrs&)> apply;
 };
 
+// Throws Error if an op of that name is already registered (runtime/name_registry.h).
 bool registerOp(OpSpec spec);
 const std::vector<OpSpec>& registeredOps();  // sorted by name
 // Throws Error listing the known ops if `name` is not one.

@@ -1,4 +1,4 @@
-// Camera table (pipeline/render/camera_table.h): 9 vec4 texels per view, grid coordinates.
+// Camera table (pipeline/render/view_set.h, uploadViews): 9 vec4 texels per view, grid coordinates.
 //   0 origin.xyz, w = 1 for perspective    1 origin per u    2 origin per v
 //   3 direction                            4 direction per u 5 direction per v
 //   6..8 rows of the 3x4 projection: grid point p -> (a, b, c), pixel (u, v) = (a / c, b / c), c > 0 in front.

@@ -5,27 +5,21 @@
 
 #include "nets/ops/elementwise.h"
 #include "runtime/error.h"
+#include "runtime/name_registry.h"
 
 namespace smokesvd::bench {
 namespace {
 
-std::vector<Benchmark>& registry() {
-  static std::vector<Benchmark> all;
+NameRegistry<Benchmark>& registry() {
+  static NameRegistry<Benchmark> all("benchmark");
   return all;
 }
 
 }  // namespace
 
-bool registerBenchmark(Benchmark benchmark) {
-  registry().push_back(std::move(benchmark));
-  return true;
-}
+bool registerBenchmark(Benchmark benchmark) { return registry().add(std::move(benchmark)); }
 
-const std::vector<Benchmark>& benchmarks() {
-  std::sort(registry().begin(), registry().end(),
-            [](const Benchmark& a, const Benchmark& b) { return a.name < b.name; });
-  return registry();
-}
+const std::vector<Benchmark>& benchmarks() { return registry().all(); }
 
 Tensor filled(Context& context, const Shape& shape, float value) {
   Tensor tensor(context, shape);

@@ -66,6 +66,7 @@ DeviceReference measureDeviceReference(Context& context, BenchOptions options);
 // A tensor of `shape` with every element `value` (benchmark inputs).
 Tensor filled(Context& context, const Shape& shape, float value);
 
+// Throws Error if a benchmark of that name is already registered (runtime/name_registry.h).
 bool registerBenchmark(Benchmark benchmark);
 const std::vector<Benchmark>& benchmarks();
 

@@ -1,25 +1,19 @@
 #include "tools/smokesvd/command.h"
 
-#include <algorithm>
+#include "runtime/name_registry.h"
 
 namespace smokesvd::cli {
 namespace {
 
-std::vector<Command>& registry() {
-  static std::vector<Command> all;
+NameRegistry<Command>& registry() {
+  static NameRegistry<Command> all("command");
   return all;
 }
 
 }  // namespace
 
-bool registerCommand(Command command) {
-  registry().push_back(std::move(command));
-  return true;
-}
+bool registerCommand(Command command) { return registry().add(std::move(command)); }
 
-const std::vector<Command>& commands() {
-  std::sort(registry().begin(), registry().end(), [](const Command& a, const Command& b) { return a.name < b.name; });
-  return registry();
-}
+const std::vector<Command>& commands() { return registry().all(); }
 
 }  // namespace smokesvd::cli

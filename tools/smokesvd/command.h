@@ -30,6 +30,7 @@ struct Command {
   std::function<void(CLI::App& app, const GlobalOptions& global, Action& action)> add;
 };
 
+// Throws Error if a command of that name is already registered (runtime/name_registry.h).
 bool registerCommand(Command command);
 const std::vector<Command>& commands();  // sorted by name
 
