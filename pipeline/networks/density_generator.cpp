@@ -1,6 +1,7 @@
 #include "pipeline/networks/density_generator.h"
 
 #include "nets/functional/broadcast.h"
+#include "nets/functional/concat.h"
 #include "pipeline/differentiable/render.h"
 #include "pipeline/networks/view_slots.h"
 #include "runtime/error.h"
@@ -14,6 +15,17 @@ DensityGenerator::DensityGenerator(Context& context, const models::UNet3PlusConf
   net_ = std::make_shared<models::UNet3Plus>(context, config);
   const std::vector<Camera> cameras = slotCameras(preset);
   views_ = render::uploadViews(context, cameras);
+}
+
+Var DensityGenerator::slotImages(Tape& tape, const std::vector<std::pair<int, Var>>& images) const {
+  const Shape one{1, 1, views_.height, views_.width};
+  const Var zero = variable(Tensor::fromHost(tape.context(), one, std::vector<float>(static_cast<std::size_t>(views_.height * views_.width), 0.0f)));
+  std::vector<Var> slots(kSlots, zero);
+  for (const auto& [slot, image] : images) {
+    if (slot < 0 || slot >= kSlots) throw Error("G_rho: view slot " + std::to_string(slot) + " outside [0, 16)");
+    slots[static_cast<std::size_t>(slot)] = fn::reshape(tape, image, one);
+  }
+  return fn::reshape(tape, fn::concatChannels(tape, slots), {kSlots, 1, views_.height, views_.width});
 }
 
 DensityOutput DensityGenerator::forward(Tape& tape, const Var& images, const Var& presence, bool deepSupervision) {

@@ -23,6 +23,9 @@ class DensityGenerator {
   DensityGenerator(Context& context, const models::UNet3PlusConfig& config, const Preset& preset);
   // images [16, 1, h, w]; presence [16] (or [1, 16]) of 0 and 1.
   DensityOutput forward(Tape& tape, const Var& images, const Var& presence, bool deepSupervision = false);
+  // The images [16, 1, h, w] with `images` [1, 1, h, w] in their slots and zeros in every other slot,
+  // differentiable in each given image (e.g. front and side for the coarse G_rho).
+  Var slotImages(Tape& tape, const std::vector<std::pair<int, Var>>& images) const;
   models::UNet3Plus& net() { return *net_; }
   const render::ViewSet& views() const { return views_; }
   const GridSize& grid() const { return grid_; }

@@ -2,6 +2,8 @@
 
 #include "pipeline/train/grho_trainer.h"
 #include "pipeline/train/gu_trainer.h"
+#include "pipeline/train/nvref_trainer.h"
+#include "pipeline/train/svdiff_trainer.h"
 #include "runtime/error.h"
 
 namespace smokesvd::train {
@@ -12,11 +14,16 @@ std::unique_ptr<StageTrainer> makeTrainer(Context& context, const networks::Netw
     case networks::Network::GrhoCoarse:
     case networks::Network::GrhoFine:
       return std::make_unique<GrhoTrainer>(context, config, data);
+    case networks::Network::NvRef:
+      return std::make_unique<NvRefTrainer>(context, config, data, models);
     case networks::Network::Gu:
       return std::make_unique<GuTrainer>(context, config, data, models);
-    default:
-      throw Error("training " + networks::networkName(config.network) + " is not available yet");
+    case networks::Network::SvDiff:
+      return std::make_unique<SvDiffTrainer>(context, config, data, models, false);
+    case networks::Network::SvDiffInit:
+      return std::make_unique<SvDiffTrainer>(context, config, data, models, true);
   }
+  throw Error("no trainer for network " + networks::networkName(config.network));
 }
 
 }  // namespace smokesvd::train

@@ -1,0 +1,48 @@
+// SvDiff and SvDiff-init as the pipeline uses them: conditional DDPM UNets predicting the noise of side
+// views (epsilon prediction). Images live in [0, 1] everywhere else in the pipeline; the diffusion runs
+// in [-1, 1] (x = 2 w - 1), the condition too:
+//   eps = UNet(cat(x_t, 2 c - 1), t)
+// SvDiff: x_t [N, 1, h, w] the side view of frame t; condition [N, 5, h, w] = (front view w_t, the
+// synthesised side view of t-1 and the side render of the density reconstructed from it, the same for t-2).
+// SvDiff-init: x_t [N, 2, h, w] the side views of frames 0 and 1; condition [N, 2, h, w] their front views.
+#pragma once
+
+#include <memory>
+
+#include "nets/diffusion/ddim.h"
+#include "nets/models/ddpm_unet.h"
+
+namespace smokesvd::networks {
+
+class SideViewSynthesizer {
+ public:
+  // sampleChannels 1 (SvDiff) or 2 (SvDiff-init); conditionChannels 5 or 2.
+  SideViewSynthesizer(Context& context, const models::DdpmUNetConfig& config, int sampleChannels, int conditionChannels);
+  // noisy [N, S, h, w] in [-1, 1]; condition [N, C, h, w] in [0, 1]; steps [N].
+  Var predictNoise(Tape& tape, const Var& noisy, const Var& condition, const Var& steps);
+  models::DdpmUNet& net() { return *net_; }
+  int sampleChannels() const { return sampleChannels_; }
+  int conditionChannels() const { return conditionChannels_; }
+
+ private:
+  std::shared_ptr<models::DdpmUNet> net_;
+  int sampleChannels_, conditionChannels_;
+};
+
+// [0, 1] images to the diffusion range and back: x = 2 w - 1, w = (x + 1) / 2.
+Var toDiffusionRange(Tape& tape, const Var& image);
+Var toImageRange(Tape& tape, const Var& x);
+
+// The synthesiser as a DDIM denoiser for one condition (uploaded by the caller into `condition`).
+class SideViewDenoiser : public diffusion::Denoiser {
+ public:
+  SideViewDenoiser(SideViewSynthesizer& synthesizer, Var condition);
+  Var predictNoise(Tape& tape, const Var& x) override;
+  void setStep(int step) override;
+
+ private:
+  SideViewSynthesizer& synthesizer_;
+  Var condition_, steps_;
+};
+
+}  // namespace smokesvd::networks

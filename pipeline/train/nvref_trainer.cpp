@@ -1,0 +1,210 @@
+#include "pipeline/train/nvref_trainer.h"
+
+#include "nets/functional/broadcast.h"
+#include "nets/functional/concat.h"
+#include "nets/functional/elementwise.h"
+#include "nets/functional/losses.h"
+#include "nets/models/model_json.h"
+#include "nets/modules/flop_counter.h"
+#include "pipeline/differentiable/render.h"
+#include "pipeline/networks/trained_model.h"
+#include "pipeline/networks/view_slots.h"
+#include "pipeline/train/view_losses.h"
+#include "runtime/error.h"
+
+namespace smokesvd::train {
+namespace {
+
+constexpr int kBatch = 4;
+
+const std::vector<int>& stageSlots(int stage) {
+  return stage == 0 ? networks::nearSlots() : stage == 1 ? networks::midSlots() : networks::farSlots();
+}
+
+std::vector<float> knownBefore(int stage) {
+  std::vector<float> known(networks::kSlots, 0.0f);
+  known[networks::kFrontSlot] = known[networks::kSideSlot] = 1.0f;
+  for (int s = 0; s < stage; ++s)
+    for (const int v : stageSlots(s)) known[static_cast<std::size_t>(v)] = 1.0f;
+  return known;
+}
+
+// Images i*N .. (i+1)*N - 1 of a batch [k N, 1, h, w].
+Var group(Tape& tape, const Var& images, int index, int n) {
+  const Shape& s = images->value.shape();
+  const Var asChannels = fn::reshape(tape, images, {1, s[0], s[2], s[3]});
+  return fn::reshape(tape, fn::sliceChannels(tape, asChannels, index * n, (index + 1) * n), {n, 1, s[2], s[3]});
+}
+
+Var sumOf(Tape& tape, const std::vector<Var>& terms) {
+  Var sum;
+  for (const Var& t : terms) sum = sum ? fn::add(tape, sum, t) : t;
+  return sum;
+}
+
+}  // namespace
+
+NvRefTrainer::Batch::Batch(Context& context, const Preset& p, int n) : views(n) {
+  const std::vector<Camera> targetCameras(static_cast<std::size_t>(n), networks::orbitCameraAt(p, 0));
+  const std::vector<Camera> aroundCameras(static_cast<std::size_t>(2 * n), networks::orbitCameraAt(p, 0));
+  targets = render::uploadViews(context, targetCameras);
+  around = render::uploadViews(context, aroundCameras);
+  const Shape volume = p.grid.volume();
+  current = variable(Tensor(context, volume));
+  previous = variable(Tensor(context, volume));
+  beforePrevious = variable(Tensor(context, volume));
+  known = variable(Tensor(context, {networks::kSlots}));
+  usePrevious = variable(Tensor(context, {n}));
+}
+
+NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& config, const dataset::SceneDataset& data,
+                           const std::filesystem::path& models)
+    : context_(context), config_(config), data_(data),
+      refiner_(context, models::unet3PlusFromJson(config.model, config.source + " [model]")), look_(context),
+      batch_(context, data.preset(), kBatch) {
+  const std::string lossWhere = config.source + " [loss]", optionsWhere = config.source + " [options]";
+  models::requireKnownKeys(config.loss, {"mse", "l1", "mean_residual", "row_sum", "psnr_gap", "deep_supervision"}, lossWhere);
+  models::requireKnownKeys(config.options, {"beta", "coarse_model"}, optionsWhere);
+  weights_ = {networks::number(config.loss, "mse", lossWhere), networks::number(config.loss, "l1", lossWhere),
+              networks::number(config.loss, "mean_residual", lossWhere), networks::number(config.loss, "row_sum", lossWhere),
+              networks::number(config.loss, "psnr_gap", lossWhere)};
+  beta_ = networks::number(config.options, "beta", optionsWhere);
+  if (!(beta_ > 0 && beta_ < 90)) throw Error(optionsWhere + ": 'beta' must be in (0, 90) degrees");
+  if (networks::text(config.options, "coarse_model", optionsWhere) != "grho-coarse")
+    throw Error(optionsWhere + ": 'coarse_model' must be \"grho-coarse\"");
+  const networks::TrainedModel trained = networks::findTrainedModel(models, networks::Network::GrhoCoarse, data.preset());
+  coarse_ = std::make_unique<networks::DensityGenerator>(
+      context, models::unet3PlusFromJson(trained.config.model, trained.config.source + " [model]"), data.preset());
+  networks::loadTrainedWeights(trained, coarse_->net());
+  networks::freeze(coarse_->net());
+  refiner_.net().initialize(0x6e76);
+}
+
+int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int frame, const Augmentation& a, int stage,
+                         const std::vector<int>& slots, const std::vector<float>& usePrevious) {
+  const Preset& p = data_.preset();
+  std::vector<Camera> targets, around;
+  for (const int slot : slots) targets.push_back(networks::orbitCameraAt(p, networks::slotAngle(slot)));
+  for (const double sign : {-1.0, 1.0})
+    for (const int slot : slots) around.push_back(networks::orbitCameraAt(p, networks::slotAngle(slot) + sign * beta_));
+  render::rewriteViews(batch.targets, targets);
+  render::rewriteViews(batch.around, around);
+  batch.current->value.upload(augmentedDensity(data_, scene, frame, a));
+  batch.previous->value.upload(augmentedDensity(data_, scene, frame - 1, a));
+  batch.beforePrevious->value.upload(augmentedDensity(data_, scene, frame - 2, a));
+  batch.known->value.upload(knownBefore(stage));
+  batch.usePrevious->value.upload(usePrevious);
+  return look_.upload(augmentedLook(data_, scene, a));
+}
+
+int NvRefTrainer::prepare(int64_t, diffusion::Gaussian& random) {
+  const FrameDraw draw = drawFrames(data_.training(), 1, 2, random);
+  const Augmentation a = drawAugmentation(config_.data, random);
+  const int stage = std::min(2, static_cast<int>(random.uniform() * 3));
+  std::vector<int> slots = stageSlots(stage);
+  while (slots.size() > kBatch) slots.erase(slots.begin() + static_cast<std::ptrdiff_t>(random.uniform() * static_cast<double>(slots.size())));
+  std::vector<float> usePrevious;
+  for (int i = 0; i < kBatch; ++i) usePrevious.push_back(random.uniform() < 0.1 ? 0.0f : 1.0f);
+  return upload(batch_, *draw.scene, draw.frame, a, stage, slots, usePrevious);
+}
+
+NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const render::RenderSettings& settings) {
+  Images images;
+  Var minus, plus, previous, beforePrevious;
+  {
+    NoGrad noGrad(tape);
+    const Var known = fn::mulSample(tape, diff::render(tape, batch.current, coarse_->views(), settings), batch.known);
+    const Var coarse = coarse_->forward(tape, known, batch.known).density;
+    images.render = diff::render(tape, coarse, batch.targets, settings);
+    const Var around = diff::render(tape, coarse, batch.around, settings);
+    minus = group(tape, around, 0, batch.views);
+    plus = group(tape, around, 1, batch.views);
+    images.truth = diff::render(tape, batch.current, batch.targets, settings);
+    // Where a previous frame stands in for nothing (frames 0 and 1), the coarse render takes its place.
+    const Var instead = fn::sub(tape, variable(Tensor::fromHost(context_, {batch.views}, std::vector<float>(static_cast<std::size_t>(batch.views), 1.0f))),
+                                batch.usePrevious);
+    auto standIn = [&](const Var& volume) {
+      return fn::add(tape, fn::mulSample(tape, diff::render(tape, volume, batch.targets, settings), batch.usePrevious),
+                     fn::mulSample(tape, images.render, instead));
+    };
+    previous = standIn(batch.previous);
+    beforePrevious = standIn(batch.beforePrevious);
+  }
+  const networks::RefinerOutput out = refiner_.forward(tape, images.render, minus, plus, previous, beforePrevious);
+  images.refined = out.refined;
+  images.residual = out.residual;
+  return images;
+}
+
+LossTerms NvRefTrainer::record(Tape& tape, int variant) {
+  const Images images = forward(tape, batch_, look_.settings(variant == 1));
+  LossTerms terms;
+  auto weighted = [&](const char* name, double weight, const Var& loss) {
+    terms.terms.emplace_back(name, fn::scale(tape, loss, static_cast<float>(weight)));
+  };
+  weighted("mse", weights_.mse, fn::mseLoss(tape, images.refined, images.truth));
+  weighted("l1", weights_.l1, fn::l1Loss(tape, images.refined, images.truth));
+  weighted("mean_residual", weights_.meanResidual, fn::meanResidualSquared(tape, images.residual));
+  weighted("row_sum", weights_.rowSum, fn::rowSumLoss(tape, images.refined, images.truth));
+  weighted("psnr_gap", weights_.psnrGap, fn::psnrGapLoss(tape, images.refined, images.truth, images.render));
+  std::vector<Var> all;
+  for (const auto& [name, term] : terms.terms) all.push_back(term);
+  terms.total = sumOf(tape, all);
+  return terms;
+}
+
+std::vector<Metric> NvRefTrainer::validate() {
+  const int samples = config_.train.validationSamples;
+  const char* names[] = {"near", "mid", "far"};
+  std::vector<double> refined(3, 0.0), unrefined(3, 0.0);
+  std::vector<std::unique_ptr<Batch>> batches;
+  for (int stage = 0; stage < 3; ++stage)
+    batches.push_back(std::make_unique<Batch>(context_, data_.preset(), static_cast<int>(stageSlots(stage).size())));
+  for (int k = 0; k < samples; ++k) {
+    const FrameDraw draw = validationFrames(data_.validation(), k, samples, 1, 2);
+    for (int stage = 0; stage < 3; ++stage) {
+      Batch& batch = *batches[static_cast<std::size_t>(stage)];
+      const int variant = upload(batch, *draw.scene, draw.frame, Augmentation{}, stage, stageSlots(stage),
+                                 std::vector<float>(static_cast<std::size_t>(batch.views), 1.0f));
+      Stream stream(context_);
+      Tape tape(stream);
+      NoGrad noGrad(tape);
+      const Images images = forward(tape, batch, look_.settings(variant == 1));
+      stream.submit();
+      const std::vector<float> t = images.truth->value.download(), r = images.render->value.download(),
+                               f = images.refined->value.download();
+      const std::size_t pixels = t.size() / static_cast<std::size_t>(batch.views);
+      for (int v = 0; v < batch.views; ++v) {
+        const std::span<const float> tv(t.data() + v * pixels, pixels), rv(r.data() + v * pixels, pixels),
+            fv(f.data() + v * pixels, pixels);
+        refined[static_cast<std::size_t>(stage)] += psnr(fv, tv) / batch.views;
+        unrefined[static_cast<std::size_t>(stage)] += psnr(rv, tv) / batch.views;
+      }
+    }
+  }
+  std::vector<Metric> metrics;
+  double gain = 0;
+  for (int stage = 0; stage < 3; ++stage) gain += (refined[static_cast<std::size_t>(stage)] - unrefined[static_cast<std::size_t>(stage)]) / samples / 3;
+  metrics.push_back({"psnr_gain", gain});
+  for (int stage = 0; stage < 3; ++stage) {
+    metrics.push_back({std::string("psnr_refined_") + names[stage], refined[static_cast<std::size_t>(stage)] / samples});
+    metrics.push_back({std::string("psnr_unrefined_") + names[stage], unrefined[static_cast<std::size_t>(stage)] / samples});
+  }
+  return metrics;
+}
+
+std::string NvRefTrainer::dataSummary() const { return describeData(data_) + "; coarse densities from the trained grho-coarse"; }
+
+double NvRefTrainer::forwardFlops() {
+  Stream stream(context_);
+  Tape tape(stream);
+  NoGrad noGrad(tape);
+  const Preset& p = data_.preset();
+  const Var image = variable(Tensor(context_, {1, 1, p.imageHeight, p.imageWidth}));
+  stream.fillZero(image->value);
+  modules::FlopCounter counter;
+  refiner_.forward(tape, image, image, image, image, image);
+  return counter.flops();
+}
+
+}  // namespace smokesvd::train

@@ -1,0 +1,315 @@
+#include "pipeline/train/svdiff_trainer.h"
+
+#include <cmath>
+
+#include "nets/functional/broadcast.h"
+#include "nets/functional/concat.h"
+#include "nets/functional/elementwise.h"
+#include "nets/functional/losses.h"
+#include "nets/functional/reduce_axes.h"
+#include "nets/models/model_json.h"
+#include "nets/modules/flop_counter.h"
+#include "pipeline/differentiable/physics.h"
+#include "pipeline/differentiable/render.h"
+#include "pipeline/networks/trained_model.h"
+#include "pipeline/networks/view_slots.h"
+#include "pipeline/train/view_losses.h"
+#include "runtime/error.h"
+
+namespace smokesvd::train {
+namespace {
+
+Var sumOf(Tape& tape, const std::vector<Var>& terms) {
+  Var sum;
+  for (const Var& t : terms) sum = sum ? fn::add(tape, sum, t) : t;
+  return sum;
+}
+
+Var zero(Tape& tape) { return variable(Tensor::fromHost(tape.context(), {1}, std::vector<float>{0.0f})); }
+
+// Images i of a batch [k, 1, h, w] as [1, 1, h, w].
+Var image(Tape& tape, const Var& images, int index) {
+  const Shape& s = images->value.shape();
+  return fn::reshape(tape, fn::sliceChannels(tape, fn::reshape(tape, images, {1, s[0], s[2], s[3]}), index, index + 1),
+                     {1, 1, s[2], s[3]});
+}
+
+}  // namespace
+
+SvDiffTrainer::SvDiffTrainer(Context& context, const networks::NetworkConfig& config, const dataset::SceneDataset& data,
+                             const std::filesystem::path& models, bool initial)
+    : context_(context), config_(config), data_(data), initial_(initial),
+      schedule_(diffusion::NoiseSchedule::linear(
+          static_cast<int>(networks::integer(config.options, "diffusion_steps", config.source + " [options]")),
+          networks::number(config.options, "beta_start", config.source + " [options]"),
+          networks::number(config.options, "beta_end", config.source + " [options]"))),
+      synthesizer_(context, models::ddpmUNetFromJson(config.model, config.source + " [model]"), initial ? 2 : 1,
+                   initial ? 2 : 5),
+      look_(context), factors_(context, config.train.batch) {
+  const std::string lossWhere = config.source + " [loss]", optionsWhere = config.source + " [options]";
+  const Preset& p = data.preset();
+  if (initial) {
+    models::requireKnownKeys(config.loss, {"noise", "image", "row_sum"}, lossWhere);
+    models::requireKnownKeys(config.options, {"diffusion_steps", "beta_start", "beta_end", "guidance_threshold",
+                                              "coarse_model", "guidance"},
+                             optionsWhere);
+  } else {
+    models::requireKnownKeys(config.loss, {"noise", "image", "row_sum", "velocity"}, lossWhere);
+    models::requireKnownKeys(config.options, {"diffusion_steps", "beta_start", "beta_end", "guidance_threshold",
+                                              "coarse_model", "frames", "multi_frame", "guidance", "velocity_model"},
+                             optionsWhere);
+    frames_ = static_cast<int>(networks::integer(config.options, "frames", optionsWhere));
+    multiFrame_ = networks::flag(config.options, "multi_frame", optionsWhere);
+    if (frames_ < 1) throw Error(optionsWhere + ": 'frames' must be at least 1");
+    if (config.train.batch != 1) throw Error(config.source + " [train]: SvDiff trains with batch 1 (one frame sequence)");
+  }
+  weights_ = {networks::number(config.loss, "noise", lossWhere), networks::number(config.loss, "image", lossWhere),
+              networks::number(config.loss, "row_sum", lossWhere),
+              initial ? 0.0 : networks::number(config.loss, "velocity", lossWhere)};
+  guidance_ = networks::flag(config.options, "guidance", optionsWhere);
+  threshold_ = static_cast<int>(networks::integer(config.options, "guidance_threshold", optionsWhere));
+  if (threshold_ < 1 || threshold_ >= schedule_.steps())
+    throw Error(optionsWhere + ": 'guidance_threshold' must be in [1, diffusion_steps)");
+  batch_ = config.train.batch;
+
+  frontSideViews_ = render::uploadViews(context, std::vector<Camera>{networks::orbitCameraAt(p, 0), networks::orbitCameraAt(p, 90)});
+  sideView_ = render::uploadViews(context, std::vector<Camera>{networks::orbitCameraAt(p, 90)});
+  if (!initial || guidance_) {
+    if (networks::text(config.options, "coarse_model", optionsWhere) != "grho-coarse")
+      throw Error(optionsWhere + ": 'coarse_model' must be \"grho-coarse\"");
+  }
+  if (!initial) {
+    const networks::TrainedModel coarse = networks::findTrainedModel(models, networks::Network::GrhoCoarse, p);
+    coarse_ = std::make_unique<networks::DensityGenerator>(
+        context, models::unet3PlusFromJson(coarse.config.model, coarse.config.source + " [model]"), p);
+    networks::loadTrainedWeights(coarse, coarse_->net());
+    networks::freeze(coarse_->net());
+    if (guidance_ && weights_.velocity > 0) {
+      if (networks::text(config.options, "velocity_model", optionsWhere) != "gu")
+        throw Error(optionsWhere + ": 'velocity_model' must be \"gu\"");
+      const networks::TrainedModel gu = networks::findTrainedModel(models, networks::Network::Gu, p);
+      velocity_ = std::make_unique<networks::VelocityGenerator>(
+          context, models::unet3PlusFromJson(gu.config.model, gu.config.source + " [model]"), p);
+      networks::loadTrainedWeights(gu, velocity_->net());
+      networks::freeze(velocity_->net());
+    }
+  }
+  const int volumes = initial ? 2 * batch_ : frames_ + 2;
+  for (int i = 0; i < volumes; ++i) densities_.push_back(variable(Tensor(context, p.grid.volume())));
+  if (initial)
+    noise_.push_back(variable(Tensor(context, {batch_, 2, p.imageHeight, p.imageWidth})));
+  else
+    for (int i = 0; i < frames_; ++i) noise_.push_back(variable(Tensor(context, {1, 1, p.imageHeight, p.imageWidth})));
+  steps_ = variable(Tensor(context, {batch_}));
+  synthesizer_.net().initialize(initial ? 0x737669 : 0x7376);
+}
+
+int SvDiffTrainer::framesPerSample() const { return initial_ ? 2 : frames_ + 2; }
+
+int SvDiffTrainer::upload(const dataset::SceneEntry& scene, const std::vector<int>& frames, const Augmentation& a,
+                          int step, diffusion::Gaussian& random) {
+  for (std::size_t i = 0; i < frames.size(); ++i) densities_[i]->value.upload(augmentedDensity(data_, scene, frames[i], a));
+  for (const Var& n : noise_) n->value.upload(random.values(static_cast<std::size_t>(n->value.numel())));
+  steps_->value.upload(std::vector<float>(static_cast<std::size_t>(batch_), static_cast<float>(step)));
+  factors_.upload(diffusion::stepFactors(schedule_, std::vector<int>(static_cast<std::size_t>(batch_), step)));
+  return look_.upload(augmentedLook(data_, scene, a));
+}
+
+int SvDiffTrainer::prepare(int64_t, diffusion::Gaussian& random) {
+  const Augmentation a = drawAugmentation(config_.data, random);
+  const bool guided = guidance_ && random.uniform() < static_cast<double>(threshold_) / schedule_.steps();
+  const double u = random.uniform();
+  const int T = schedule_.steps();
+  int step = guidance_ ? (guided ? static_cast<int>(u * threshold_) : threshold_ + static_cast<int>(u * (T - threshold_)))
+                       : static_cast<int>(u * T);
+  step = std::min(step, T - 1);
+  std::vector<int> frames;
+  const dataset::SceneEntry* scene = nullptr;
+  if (initial_) {
+    const FrameDraw first = drawFrames(data_.training(), 2, 0, random);
+    scene = first.scene;
+    frames = {first.frame, first.frame + 1};
+    for (int b = 1; b < batch_; ++b) {
+      const int t = std::min(scene->frames - 2, static_cast<int>(random.uniform() * (scene->frames - 1)));
+      frames.push_back(t);
+      frames.push_back(t + 1);
+    }
+  } else {
+    const FrameDraw draw = drawFrames(data_.training(), frames_, 2, random);
+    scene = draw.scene;
+    for (int k = -2; k < frames_; ++k) frames.push_back(draw.frame + k);
+  }
+  return upload(*scene, frames, a, step, random) + (guided ? 2 : 0);
+}
+
+SvDiffTrainer::FrontSide SvDiffTrainer::frontSide(Tape& tape, const Var& density, const render::RenderSettings& settings) {
+  const Var both = diff::render(tape, density, frontSideViews_, settings);
+  return {image(tape, both, 0), image(tape, both, 1)};
+}
+
+LossTerms SvDiffTrainer::recordInitial(Tape& tape, bool guided, const render::RenderSettings& settings) {
+  const Preset& p = data_.preset();
+  Var sides, fronts;
+  {
+    NoGrad noGrad(tape);
+    std::vector<Var> side, front;
+    for (const Var& density : densities_) {
+      const FrontSide fs = frontSide(tape, density, settings);
+      side.push_back(fs.side);
+      front.push_back(fs.front);
+    }
+    const Shape batch{batch_, 2, p.imageHeight, p.imageWidth};
+    sides = fn::reshape(tape, fn::concatChannels(tape, side), batch);
+    fronts = fn::reshape(tape, fn::concatChannels(tape, front), batch);
+  }
+  const Var clean = networks::toDiffusionRange(tape, sides);
+  const Var noisy = diffusion::addNoise(tape, clean, noise_[0], factors_);
+  const Var predicted = synthesizer_.predictNoise(tape, noisy, fronts, steps_);
+  LossTerms terms;
+  terms.terms.emplace_back("noise", fn::scale(tape, fn::mseLoss(tape, predicted, noise_[0]), static_cast<float>(weights_.noise)));
+  if (guided) {
+    const Var estimate = diffusion::estimateClean(tape, noisy, predicted, factors_);
+    terms.terms.emplace_back("image", fn::scale(tape, fn::mseLoss(tape, estimate, clean), static_cast<float>(weights_.image)));
+    terms.terms.emplace_back("row_sum", fn::scale(tape, fn::rowSumLoss(tape, networks::toImageRange(tape, estimate), fronts),
+                                                  static_cast<float>(weights_.rowSum)));
+  } else {
+    terms.terms.emplace_back("image", zero(tape));
+    terms.terms.emplace_back("row_sum", zero(tape));
+  }
+  std::vector<Var> all;
+  for (const auto& [name, term] : terms.terms) all.push_back(term);
+  terms.total = sumOf(tape, all);
+  return terms;
+}
+
+LossTerms SvDiffTrainer::recordSequence(Tape& tape, bool guided, const render::RenderSettings& settings) {
+  struct Conditioned {
+    Var side, render;  // the synthesised (or true) side view and the side render of its coarse density
+  };
+  std::vector<FrontSide> truth;
+  Conditioned beforePrevious, previous;
+  Var previousDensity;
+  auto coarse = [&](const Var& front, const Var& side) {
+    return coarse_->forward(tape, coarse_->slotImages(tape, {{networks::kFrontSlot, front}, {networks::kSideSlot, side}}),
+                            variable(Tensor::fromHost(tape.context(), {networks::kSlots}, [] {
+                              std::vector<float> p(networks::kSlots, 0.0f);
+                              p[networks::kFrontSlot] = p[networks::kSideSlot] = 1.0f;
+                              return p;
+                            }())))
+        .density;
+  };
+  auto sideRender = [&](const Var& density) { return diff::render(tape, density, sideView_, settings); };
+  {
+    NoGrad noGrad(tape);
+    for (const Var& density : densities_) truth.push_back(frontSide(tape, density, settings));
+    const Var density0 = coarse(truth[0].front, truth[0].side), density1 = coarse(truth[1].front, truth[1].side);
+    beforePrevious = {truth[0].side, sideRender(density0)};
+    previous = {truth[1].side, sideRender(density1)};
+    previousDensity = density1;
+  }
+  const int frames = guided && multiFrame_ ? frames_ : 1;
+  std::vector<Var> noise, image, rowSum, velocity;
+  for (int i = 0; i < frames; ++i) {
+    const FrontSide& now = truth[static_cast<std::size_t>(i + 2)];
+    const Var clean = networks::toDiffusionRange(tape, now.side);
+    const Var condition =
+        fn::concatChannels(tape, {now.front, previous.side, previous.render, beforePrevious.side, beforePrevious.render});
+    const Var noisy = diffusion::addNoise(tape, clean, noise_[static_cast<std::size_t>(i)], factors_);
+    const Var predicted = synthesizer_.predictNoise(tape, noisy, condition, steps_);
+    noise.push_back(fn::mseLoss(tape, predicted, noise_[static_cast<std::size_t>(i)]));
+    if (!guided) break;
+    const Var estimate = diffusion::estimateClean(tape, noisy, predicted, factors_);
+    const Var side = networks::toImageRange(tape, estimate);
+    image.push_back(fn::mseLoss(tape, estimate, clean));
+    rowSum.push_back(fn::rowSumLoss(tape, side, now.front));
+    const Var density = coarse(now.front, side);
+    if (velocity_) {
+      const Var u = velocity_->forward(tape, previousDensity, density).velocity;
+      const Var divergence = diff::divergence(tape, u, physics::Staggering::Centred);
+      velocity.push_back(fn::reshape(tape,
+                                     fn::add(tape, fn::mean(tape, fn::mul(tape, divergence, divergence)),
+                                             fn::mean(tape, diff::gradientNormSquared(tape, u))),
+                                     {1}));
+    }
+    previousDensity = density;
+    beforePrevious = previous;
+    previous = {side, sideRender(density)};
+  }
+  auto averaged = [&](const std::vector<Var>& values, double weight) {
+    if (values.empty()) return zero(tape);
+    return fn::scale(tape, sumOf(tape, values), static_cast<float>(weight / static_cast<double>(values.size())));
+  };
+  LossTerms terms;
+  terms.terms.emplace_back("noise", averaged(noise, weights_.noise));
+  terms.terms.emplace_back("image", averaged(image, weights_.image));
+  terms.terms.emplace_back("row_sum", averaged(rowSum, weights_.rowSum));
+  terms.terms.emplace_back("velocity", averaged(velocity, weights_.velocity));
+  std::vector<Var> all;
+  for (const auto& [name, term] : terms.terms) all.push_back(term);
+  terms.total = sumOf(tape, all);
+  return terms;
+}
+
+LossTerms SvDiffTrainer::record(Tape& tape, int variant) {
+  const render::RenderSettings settings = look_.settings(variant % 2 == 1);
+  const bool guided = variant >= 2;
+  return initial_ ? recordInitial(tape, guided, settings) : recordSequence(tape, guided, settings);
+}
+
+std::vector<Metric> SvDiffTrainer::validate() {
+  const int samples = config_.train.validationSamples;
+  const std::vector<int> probes{25, 100, 400, 800};
+  std::vector<double> noiseError(probes.size(), 0.0);
+  double cleanPsnr = 0;
+  std::unique_ptr<Stream> stream;
+  for (int k = 0; k < samples; ++k) {
+    const FrameDraw draw = validationFrames(data_.validation(), k, samples, initial_ ? 2 : 1, initial_ ? 0 : 2);
+    std::vector<int> frames;
+    if (initial_)
+      for (int b = 0; b < batch_; ++b) frames.insert(frames.end(), {draw.frame, draw.frame + 1});
+    else
+      for (int f = -2; f < frames_; ++f) frames.push_back(std::min(draw.frame + f, draw.scene->frames - 1));
+    for (std::size_t p = 0; p < probes.size(); ++p) {
+      const int step = std::min(probes[p], schedule_.steps() - 1);
+      diffusion::Gaussian random(static_cast<uint64_t>(k * 7919 + p));
+      const int variant = upload(*draw.scene, frames, Augmentation{}, step, random);
+      Stream s(context_);
+      Tape tape(s);
+      NoGrad noGrad(tape);
+      // The unguided recording evaluates one frame; the guided one also gives the clean estimate's error.
+      const LossTerms terms = record(tape, variant + 2);
+      s.submit();
+      noiseError[p] += terms.terms[0].second->value.download()[0] / weights_.noise;
+      if (probes[p] == 100) {
+        const double mse = terms.terms[1].second->value.download()[0] / weights_.image / 4.0;  // [-1,1] -> [0,1]
+        cleanPsnr += mse > 0 ? -10 * std::log10(mse) : 100.0;
+      }
+    }
+  }
+  const double n = samples;
+  std::vector<Metric> metrics{{"clean_psnr_at_100", cleanPsnr / n}};
+  for (std::size_t p = 0; p < probes.size(); ++p)
+    metrics.push_back({"noise_mse_at_" + std::to_string(probes[p]), noiseError[p] / n});
+  return metrics;
+}
+
+std::string SvDiffTrainer::dataSummary() const {
+  return describeData(data_) + (initial_ ? "" : "; conditions and guidance through the trained grho-coarse and gu");
+}
+
+double SvDiffTrainer::forwardFlops() {
+  Stream stream(context_);
+  Tape tape(stream);
+  NoGrad noGrad(tape);
+  const Preset& p = data_.preset();
+  const Var noisy = variable(Tensor(context_, {1, synthesizer_.sampleChannels(), p.imageHeight, p.imageWidth}));
+  const Var condition = variable(Tensor(context_, {1, synthesizer_.conditionChannels(), p.imageHeight, p.imageWidth}));
+  stream.fillZero(noisy->value);
+  stream.fillZero(condition->value);
+  const Var steps = variable(Tensor::fromHost(context_, {1}, std::vector<float>{0.0f}));
+  modules::FlopCounter counter;
+  synthesizer_.predictNoise(tape, noisy, condition, steps);
+  return counter.flops();
+}
+
+}  // namespace smokesvd::train

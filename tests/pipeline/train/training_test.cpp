@@ -1,0 +1,217 @@
+// The trainers and the training loop on the tiny preset: every network trains from a dataset the test
+// simulates, a killed-and-resumed run ends with exactly the weights of an uninterrupted one, the same
+// seed gives the same weights, and bad inputs are clear errors.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <unistd.h>
+
+#include "nets/io/safetensors.h"
+#include "pipeline/dataset/scene_dataset.h"
+#include "pipeline/networks/network_config.h"
+#include "pipeline/sim/random_scene.h"
+#include "pipeline/sim/run.h"
+#include "pipeline/train/make_trainer.h"
+#include "pipeline/train/training_run.h"
+#include "runtime/error.h"
+#include "tests/harness/gpu_test.h"
+
+namespace smokesvd::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratch(const std::string& name) {
+  const fs::path path = fs::temp_directory_path() / ("smokesvd_training_" + std::to_string(getpid())) / name;
+  fs::remove_all(path);
+  fs::create_directories(path);
+  return path;
+}
+
+// Four tiny scenes of 8 frames (one held out: validation_every 4 in the configs below).
+const fs::path& tinyData() {
+  static const fs::path root = [] {
+    const fs::path path = scratch("data");
+    for (int i = 0; i < 4; ++i) {
+      sim::Scene scene = sim::randomScene(100 + static_cast<uint64_t>(i), preset("tiny").grid, 8);
+      scene.render.enabled = false;
+      sim::runScene(testContext(), scene, path / ("scene_000" + std::to_string(i)), {});
+    }
+    return path;
+  }();
+  return root;
+}
+
+networks::NetworkConfig tinyConfig(networks::Network network, int64_t steps) {
+  networks::NetworkConfig c = networks::defaultNetworkConfig("tiny", network);
+  c.train.steps = steps;
+  c.train.warmup = 1;
+  c.train.logEvery = 1;
+  c.train.checkpointEvery = 3;
+  c.train.validateEvery = steps;
+  c.train.validationSamples = 2;
+  c.data.validationEvery = 4;
+  if (network == networks::Network::Gu) c.options["finetune_steps"] = 2;
+  return c;
+}
+
+train::TrainingResult trainTiny(networks::Network network, const fs::path& out, int64_t steps, int64_t stopAfter = -1,
+                                bool resume = false, const fs::path& models = {}) {
+  const networks::NetworkConfig config = tinyConfig(network, steps);
+  dataset::DatasetOptions options;
+  options.validationEvery = 4;
+  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  const auto trainer = train::makeTrainer(testContext(), config, data, models.empty() ? out.parent_path() : models);
+  train::TrainingOptions o;
+  o.out = out;
+  o.resume = resume;
+  o.stopAfter = stopAfter;
+  o.quiet = true;
+  o.seed = 7;
+  return train::runTraining(testContext(), *trainer, config, o);
+}
+
+std::vector<io::NamedArray> weightsOf(const fs::path& run) { return io::readSafetensors(run / "model.safetensors").tensors; }
+
+void expectSameWeights(const fs::path& a, const fs::path& b) {
+  const auto wa = weightsOf(a), wb = weightsOf(b);
+  ASSERT_EQ(wa.size(), wb.size());
+  for (std::size_t i = 0; i < wa.size(); ++i) {
+    EXPECT_EQ(wa[i].name, wb[i].name);
+    EXPECT_EQ(wa[i].values, wb[i].values) << wa[i].name << " differs";
+  }
+}
+
+class TrainingTest : public GpuTest {};
+
+// The models every other trainer depends on, trained once for the whole suite.
+const fs::path& tinyModels() {
+  static const fs::path models = [] {
+    const fs::path path = scratch("models");
+    for (const auto n : {networks::Network::GrhoCoarse, networks::Network::GrhoFine, networks::Network::Gu})
+      trainTiny(n, path / networks::networkName(n), 6);
+    return path;
+  }();
+  return models;
+}
+
+TEST_F(TrainingTest, EveryNetworkTrainsAndWritesItsFiles) {
+  const fs::path& models = tinyModels();
+  for (const auto n : networks::allNetworks()) {
+    const fs::path out = models / networks::networkName(n);
+    if (!fs::exists(out / "model.safetensors")) {
+      const train::TrainingResult r = trainTiny(n, out, 6, -1, false, models);
+      EXPECT_TRUE(r.complete) << networks::networkName(n);
+      EXPECT_FALSE(r.validation.empty()) << networks::networkName(n);
+    }
+    for (const char* file : {"model.safetensors", "config.json", "model_card.md", "loss.csv", "loss.png", "validation.csv"})
+      EXPECT_TRUE(fs::exists(out / file)) << networks::networkName(n) << ": " << file;
+    EXPECT_FALSE(fs::exists(out / "checkpoint.safetensors")) << networks::networkName(n);
+    // The weights load back into the architecture their config describes.
+    const networks::NetworkConfig config = networks::readNetworkConfig(out / "config.json");
+    EXPECT_EQ(config.network, n);
+  }
+}
+
+TEST_F(TrainingTest, AKilledAndResumedRunEndsWithTheWeightsOfAnUninterruptedOne) {
+  const fs::path& models = tinyModels();
+  for (const auto n : {networks::Network::GrhoCoarse, networks::Network::SvDiff}) {
+    const fs::path whole = scratch(networks::networkName(n) + "_whole"), pieces = scratch(networks::networkName(n) + "_pieces");
+    trainTiny(n, whole, 8, -1, false, models);
+    const train::TrainingResult first = trainTiny(n, pieces, 8, 4, false, models);  // "killed" after 4 steps
+    EXPECT_FALSE(first.complete);
+    EXPECT_TRUE(fs::exists(pieces / "checkpoint.safetensors"));
+    const train::TrainingResult second = trainTiny(n, pieces, 8, -1, true, models);
+    EXPECT_TRUE(second.complete);
+    EXPECT_EQ(second.stepsThisCall, 5);  // resumed from the checkpoint at step 3
+    expectSameWeights(whole, pieces);
+    std::ifstream a(whole / "loss.csv"), b(pieces / "loss.csv");
+    std::string la, lb;
+    int rows = 0;
+    while (std::getline(a, la) && std::getline(b, lb)) {
+      // The seconds column differs between runs; the step and every loss must not.
+      EXPECT_EQ(la.substr(0, la.find(',')), lb.substr(0, lb.find(',')));
+      EXPECT_EQ(la.substr(la.find(',', la.find(',') + 1)), lb.substr(lb.find(',', lb.find(',') + 1))) << "row " << rows;
+      ++rows;
+    }
+    EXPECT_EQ(rows, 9);
+  }
+}
+
+TEST_F(TrainingTest, TheSameSeedGivesTheSameWeights) {
+  const fs::path a = scratch("seed_a"), b = scratch("seed_b");
+  trainTiny(networks::Network::GrhoFine, a / "grho-fine", 5);
+  trainTiny(networks::Network::GrhoFine, b / "grho-fine", 5);
+  expectSameWeights(a / "grho-fine", b / "grho-fine");
+}
+
+TEST_F(TrainingTest, ARunFolderIsNeitherResumedNorOverwrittenUnasked) {
+  const fs::path out = scratch("guarded") / "grho-fine";
+  trainTiny(networks::Network::GrhoFine, out, 3);
+  EXPECT_THROW(trainTiny(networks::Network::GrhoFine, out, 3), Error);
+  // A finished run resumed is a no-op; a run of another config refuses to resume.
+  EXPECT_EQ(trainTiny(networks::Network::GrhoFine, out, 3, -1, true).stepsThisCall, 0);
+  EXPECT_THROW(trainTiny(networks::Network::GrhoFine, out, 4, -1, true), Error);
+}
+
+TEST(TrainingInputs, BadDataAndConfigsAreClearErrors) {
+  const fs::path empty = scratch("empty");
+  try {
+    dataset::SceneDataset data(empty, preset("tiny"));
+    FAIL() << "an empty folder was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no scenes"), std::string::npos) << e.what();
+  }
+  try {
+    dataset::SceneDataset data(tinyData(), preset("small"));
+    FAIL() << "scenes of another resolution were accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("resolution 16x28x16"), std::string::npos) << e.what();
+  }
+  nlohmann::json config = networks::toJson(networks::defaultNetworkConfig("tiny", networks::Network::Gu));
+  config["train"]["learning_rate"] = 1e-3;
+  try {
+    networks::parseNetworkConfig(config, "mine.json");
+    FAIL() << "an unknown key was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("mine.json [train]: unknown key 'learning_rate'"), std::string::npos) << e.what();
+  }
+  config = networks::toJson(networks::defaultNetworkConfig("tiny", networks::Network::Gu));
+  config["model"]["filters"] = "many";
+  EXPECT_THROW(
+      {
+        const networks::NetworkConfig c = networks::parseNetworkConfig(config, "mine.json");
+        dataset::DatasetOptions o;
+        o.validationEvery = 4;
+        const dataset::SceneDataset data(tinyData(), preset("tiny"), o);
+        train::makeTrainer(testContext(), c, data, {});
+      },
+      Error);
+}
+
+TEST_F(TrainingTest, WeightsOfAnotherArchitectureNameEveryDifference) {
+  const fs::path& models = tinyModels();
+  // A G_u checkpoint given as the initial weights of G_rho: the error lists the tensors that differ.
+  try {
+    const fs::path out = scratch("other_architecture");
+    const networks::NetworkConfig config = tinyConfig(networks::Network::GrhoFine, 2);
+    dataset::DatasetOptions options;
+    options.validationEvery = 4;
+    const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+    const auto trainer = train::makeTrainer(testContext(), config, data, models);
+    train::TrainingOptions o;
+    o.out = out;
+    o.quiet = true;
+    o.initWeights = models / "gu" / "model.safetensors";
+    train::runTraining(testContext(), *trainer, config, o);
+    FAIL() << "weights of another architecture were accepted";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("does not match"), std::string::npos) << what;
+    EXPECT_NE(what.find("presence.weight"), std::string::npos) << what;
+    EXPECT_NE(what.find("with a different shape: stem.weight"), std::string::npos) << what;
+  }
+}
+
+}  // namespace
+}  // namespace smokesvd::testing
