@@ -7,6 +7,7 @@
 #include "runtime/buffer.h"
 #include "runtime/error.h"
 #include "runtime/kernel.h"
+#include "runtime/tensor_guards.h"
 
 namespace smokesvd {
 namespace {
@@ -156,6 +157,7 @@ Context::Context(ContextOptions options)
     vkCheck(vkCreateCommandPool(device_, &poolInfo, nullptr, &commandPool_), "creating a command pool");
     bufferPool_ = std::make_unique<BufferPool>(*this);
     kernels_ = std::make_unique<KernelCache>(*this);
+    if (options.guardTensors) tensorGuards_ = std::make_unique<TensorGuards>();
   } catch (...) {
     release();
     throw;
@@ -182,6 +184,8 @@ void Context::release() {
 }
 
 const Kernel& Context::kernel(const KernelKey& key) { return kernels_->get(key); }
+
+std::vector<std::string> Context::builtShaders() const { return kernels_->shaders(); }
 
 std::vector<std::string> Context::takeValidationMessages() {
   std::lock_guard lock(messagesMutex_);

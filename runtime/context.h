@@ -17,6 +17,7 @@ namespace smokesvd {
 class BufferPool;
 class KernelCache;
 class Kernel;
+class TensorGuards;
 struct KernelKey;
 
 struct ContextOptions {
@@ -30,6 +31,9 @@ struct ContextOptions {
   // Treat the device as lacking float32 atomic add, so that scattering kernels use their
   // compare-and-swap variants (tests that path); info().float32AtomicAdd then reads false.
   bool emulateFloatAtomics = false;
+  // Test mode: every tensor starts NaN-filled and is followed by a guard region that its storage
+  // bindings span; tensorGuards() reports guards a kernel wrote (runtime/tensor_guards.h).
+  bool guardTensors = false;
 };
 
 class Context {
@@ -50,6 +54,10 @@ class Context {
   VkCommandPool commandPool() const { return commandPool_; }
   BufferPool& buffers() { return *bufferPool_; }
   const Kernel& kernel(const KernelKey& key);
+  // The names of the shaders built into kernels so far ("nn/conv_direct", ...), sorted, each once.
+  std::vector<std::string> builtShaders() const;
+  // The guards of a context created with guardTensors; nullptr otherwise.
+  TensorGuards* tensorGuards() const { return tensorGuards_.get(); }
   bool validationEnabled() const { return validation_; }
   // Whether tensor buffers are mapped and read/written with memcpy (unified memory) or staged.
   bool mappedBuffers() const { return info_.unifiedMemory && !forceStaging_; }
@@ -85,6 +93,7 @@ class Context {
   PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet_ = nullptr;
   std::unique_ptr<BufferPool> bufferPool_;
   std::unique_ptr<KernelCache> kernels_;
+  std::unique_ptr<TensorGuards> tensorGuards_;
   std::mutex messagesMutex_;
   std::vector<std::string> validationMessages_;
 };

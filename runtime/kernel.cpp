@@ -116,4 +116,12 @@ const Kernel& KernelCache::get(const KernelKey& key) {
   return *kernel;
 }
 
+std::vector<std::string> KernelCache::shaders() const {
+  std::lock_guard lock(mutex_);
+  std::vector<std::string> names;
+  for (const auto& [key, kernel] : kernels_)
+    if (names.empty() || names.back() != key.shader) names.push_back(key.shader);
+  return names;
+}
+
 }  // namespace smokesvd

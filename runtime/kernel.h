@@ -63,10 +63,12 @@ class KernelCache {
  public:
   explicit KernelCache(Context& context) : context_(context) {}
   const Kernel& get(const KernelKey& key);
+  // The shader of every kernel built so far, sorted, each once.
+  std::vector<std::string> shaders() const;
 
  private:
   Context& context_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::map<KernelKey, std::unique_ptr<Kernel>> kernels_;
 };
 

@@ -32,7 +32,7 @@ class Context;
 // One argument of a dispatch, bound to the next binding number. Texel-buffer bindings read through a
 // float view unless the argument asks for vec4 texels (asVec4).
 struct Arg {
-  Arg(const Tensor& tensor) : buffer(tensor.sharedBuffer()), bytes(tensor.bytes()) {}  // NOLINT: implicit on purpose
+  Arg(const Tensor& tensor) : buffer(tensor.sharedBuffer()), bytes(tensor.boundBytes()) {}  // NOLINT: implicit on purpose
   Arg(std::shared_ptr<Buffer> buffer_, uint64_t bytes_, TexelFormat format_ = TexelFormat::Float)
       : buffer(std::move(buffer_)), bytes(bytes_), format(format_) {}
   std::shared_ptr<Buffer> buffer;
@@ -40,7 +40,7 @@ struct Arg {
   TexelFormat format = TexelFormat::Float;
 };
 
-inline Arg asVec4(const Tensor& tensor) { return Arg(tensor.sharedBuffer(), tensor.bytes(), TexelFormat::Float4); }
+inline Arg asVec4(const Tensor& tensor) { return Arg(tensor.sharedBuffer(), tensor.boundBytes(), TexelFormat::Float4); }
 
 struct StreamOptions {
   bool profileDispatches = false;  // time every dispatch as a region named after its shader

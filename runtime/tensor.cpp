@@ -2,6 +2,7 @@
 
 #include "runtime/context.h"
 #include "runtime/error.h"
+#include "runtime/tensor_guards.h"
 
 namespace smokesvd {
 
@@ -20,7 +21,13 @@ int64_t numElements(const Shape& shape) {
 Tensor::Tensor(Context& context, Shape shape) : context_(&context), shape_(std::move(shape)) {
   for (int64_t extent : shape_)
     if (extent < 0) throw Error("tensor " + toString(shape_) + ": dimensions must not be negative");
-  buffer_ = context.buffers().acquire(bytes(), "tensor " + toString(shape_));
+  TensorGuards* guards = context.tensorGuards();
+  buffer_ = context.buffers().acquire(guards ? TensorGuards::guardedBytes(bytes()) : bytes(), "tensor " + toString(shape_));
+  if (guards) guards->arm(*this);
+}
+
+uint64_t Tensor::boundBytes() const {
+  return context_ && context_->tensorGuards() ? TensorGuards::guardedBytes(bytes()) : bytes();
 }
 
 Tensor Tensor::fromHost(Context& context, Shape shape, std::span<const float> values) {

@@ -36,6 +36,9 @@ class Tensor {
   int64_t size(int axis) const;  // negative axes count from the end
   int64_t numel() const { return numElements(shape_); }
   uint64_t bytes() const { return static_cast<uint64_t>(numel()) * sizeof(float); }
+  // Bytes a storage binding of this tensor spans: bytes(), or in a guarded context (runtime/tensor_guards.h)
+  // its elements rounded up to vec4s plus the guard.
+  uint64_t boundBytes() const;
   Shape strides() const;  // contiguous strides, in elements
 
   // The same buffer seen with another shape of the same number of elements.
