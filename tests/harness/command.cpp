@@ -3,10 +3,11 @@
 #include <sys/wait.h>
 
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+
+#include "tests/harness/temp_dir.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -21,8 +22,7 @@ std::string slurp(const std::filesystem::path& path) {
 }  // namespace
 
 CommandResult runSmokesvd(const std::string& arguments, const std::string& environment) {
-  const auto directory = std::filesystem::temp_directory_path() / ("smokesvd-cli-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(directory);
+  const TempDir directory("cli");
   const auto out = directory / "stdout";
   const auto err = directory / "stderr";
   const std::string command = environment + " " + SMOKESVD_SMOKESVD_BINARY + " " + arguments + " >" + out.string() +
@@ -33,7 +33,6 @@ CommandResult runSmokesvd(const std::string& arguments, const std::string& envir
   result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   result.out = slurp(out);
   result.err = slurp(err);
-  std::filesystem::remove_all(directory);
   return result;
 }
 

@@ -1,6 +1,6 @@
 // Runs one registered op through `smokesvd op` as a user would: inputs (and grad_* upstream gradients)
 // are written to .npy files in a fresh temporary folder, the named outputs (and grad_* input gradients)
-// are read back.
+// are read back. Every test that runs an op on the command line goes through here.
 #pragma once
 
 #include <map>
@@ -17,8 +17,9 @@ struct OpRun {
   std::map<std::string, io::NpyArray> outputs;  // those asked for, when the command succeeded
 };
 
-// `attrs` are NAME=VALUE pairs passed as --attr.
+// `attrs` are NAME=VALUE pairs passed as --attr; `globalFlags` go before `op` (e.g. "--no-float-atomics").
 OpRun runOpCommand(const std::string& op, const std::map<std::string, io::NpyArray>& inputs,
-                   const std::vector<std::string>& outputs, const std::vector<std::string>& attrs = {});
+                   const std::vector<std::string>& outputs, const std::vector<std::string>& attrs = {},
+                   const std::string& globalFlags = "");
 
 }  // namespace smokesvd::testing
