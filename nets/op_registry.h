@@ -1,9 +1,10 @@
 // The catalogue of differentiable ops, for `smokesvd op` (run any op forward and backward on .npy
 // files, to check or time a kernel against another framework). Each op registers itself next to its
-// autograd wrapper:
+// autograd wrapper, with the examples the op driver test runs (nets/op_example.h):
 //
 //   const bool registered = registerOp({"mul", "y = a * b", {"a", "b"}, {}, {}, {"y"},
-//       [](Tape& tape, const std::vector<Var>& in, const OpAttrs&) { return std::vector<Var>{mul(tape, in[0], in[1])}; }});
+//       [](Tape& tape, const std::vector<Var>& in, const OpAttrs&) { return std::vector<Var>{mul(tape, in[0], in[1])}; },
+//       {{.name = "odd shape", .inputs = {{"a", draw::uniform({3, 5})}, {"b", draw::uniform({3, 5})}}}}});
 #pragma once
 
 #include <cstdint>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "nets/autograd/tape.h"
+#include "nets/op_example.h"
 
 namespace smokesvd {
 
@@ -44,6 +46,9 @@ class OpAttrs {
   std::map<std::string, std::string> values_;
 };
 
+// Whether an op has a backward; one without refuses an upstream gradient (an Error, not silent zeros).
+enum class Differentiable { Yes, No };
+
 struct OpSpec {
   std::string name;
   std::string summary;
@@ -52,6 +57,8 @@ struct OpSpec {
   std::vector<AttrSpec> attrs;
   std::vector<std::string> outputs;
   std::function<std::vector<Var>(Tape&, const std::vector<Var>& inputs, const OpAttrs&)> apply;
+  std::vector<OpExample> examples;  // at least one (tests/nets/op_driver_test.cpp)
+  Differentiable differentiable = Differentiable::Yes;
 };
 
 // Throws Error if an op of that name is already registered (runtime/name_registry.h).

@@ -116,22 +116,45 @@ const bool registered =
     registerOp({"broadcast", "y = a op b with NumPy broadcasting", {"a", "b"}, {}, {kOpAttr}, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
                   return std::vector<Var>{broadcastBinary(t, parseOp(attrs), in[0], in[1])};
-                }}) &&
+                },
+                {{.name = "add, b repeated along the last axis",
+                  .inputs = {{"a", draw::uniform({2, 3, 5})}, {"b", draw::uniform({3, 1})}},
+                  .attrs = {{"op", "add"}}},
+                 {.name = "sub, a repeated along a leading axis",
+                  .inputs = {{"a", draw::uniform({3, 7})}, {"b", draw::uniform({2, 3, 7})}},
+                  .attrs = {{"op", "sub"}}},
+                 {.name = "mul, 4-aligned rows", .inputs = {{"a", draw::uniform({2, 3, 8})}, {"b", draw::uniform({1, 3, 8})}},
+                  .attrs = {{"op", "mul"}}},
+                 {.name = "div, both repeated",
+                  .inputs = {{"a", draw::uniform({2, 1, 5})}, {"b", draw::uniform({3, 1}, 0.5f, 2.0f)}},
+                  .attrs = {{"op", "div"}}}}}) &&
     registerOp({"channel_broadcast", "y = x op v, v one value per channel (or per sample and channel)", {"x", "v"}, {},
                 {kOpAttr}, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
                   return std::vector<Var>{channelBinary(t, parseOp(attrs), in[0], in[1])};
-                }}) &&
+                },
+                {{.name = "mul, one value per channel",
+                  .inputs = {{"x", draw::uniform({2, 3, 5, 7})}, {"v", draw::uniform({3})}},
+                  .attrs = {{"op", "mul"}}},
+                 {.name = "add, one value per sample and channel, volume",
+                  .inputs = {{"x", draw::uniform({2, 3, 2, 3, 4})}, {"v", draw::uniform({2, 3})}},
+                  .attrs = {{"op", "add"}}}}}) &&
     registerOp({"sample_broadcast", "y = x op w, w one value per sample", {"x", "w"}, {}, {kOpAttr}, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
                   return std::vector<Var>{sampleBinary(t, parseOp(attrs), in[0], in[1])};
-                }}) &&
+                },
+                {{.name = "mul", .inputs = {{"x", draw::uniform({3, 2, 5})}, {"w", draw::uniform({3})}},
+                  .attrs = {{"op", "mul"}}},
+                 {.name = "div", .inputs = {{"x", draw::uniform({2, 3, 4, 5})}, {"w", draw::uniform({2, 1, 1, 1}, 0.5f, 2.0f)}},
+                  .attrs = {{"op", "div"}}}}}) &&
     registerOp({"reshape", "y = x with another shape of as many elements", {"x"}, {},
                 {{"shape", "", "comma-separated extents"}}, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
                   const std::vector<int64_t> extents = attrs.integers("shape");
                   return std::vector<Var>{reshape(t, in[0], Shape(extents.begin(), extents.end()))};
-                }});
+                },
+                {{.name = "[2, 3, 5] as [5, 6]", .inputs = {{"x", draw::uniform({2, 3, 5})}}, .attrs = {{"shape", "5,6"}},
+                  .gradient = {.step = 0.25}}}});
 
 }  // namespace
 }  // namespace smokesvd::fn

@@ -63,12 +63,25 @@ const bool registered =
                   std::vector<Var> present;
                   std::copy_if(in.begin(), in.end(), std::back_inserter(present), [](const Var& v) { return v != nullptr; });
                   return std::vector<Var>{concatChannels(t, present)};
-                }}) &&
+                },
+                {{.name = "two inputs, odd planes",
+                  .inputs = {{"a", draw::uniform({2, 3, 5})}, {"b", draw::uniform({2, 1, 5})}},
+                  .gradient = {.step = 0.25}},
+                 {.name = "four inputs, 4-aligned planes",
+                  .inputs = {{"a", draw::uniform({2, 1, 2, 4})},
+                             {"b", draw::uniform({2, 2, 2, 4})},
+                             {"c", draw::uniform({2, 1, 2, 4})},
+                             {"d", draw::uniform({2, 3, 2, 4})}},
+                  .gradient = {.step = 0.25}}}}) &&
     registerOp({"slice_channels", "y = x[:, begin:end]", {"x"}, {},
                 {{"begin", "", "first channel"}, {"end", "", "one past the last channel"}}, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
                   return std::vector<Var>{sliceChannels(t, in[0], attrs.integer("begin"), attrs.integer("end"))};
-                }});
+                },
+                {{.name = "middle channels", .inputs = {{"x", draw::uniform({2, 5, 3, 3})}},
+                  .attrs = {{"begin", "1"}, {"end", "4"}}, .gradient = {.step = 0.25}},
+                 {.name = "4-aligned planes", .inputs = {{"x", draw::uniform({1, 4, 2, 2})}},
+                  .attrs = {{"begin", "2"}, {"end", "4"}}, .gradient = {.step = 0.25}}}});
 
 }  // namespace
 }  // namespace smokesvd::fn

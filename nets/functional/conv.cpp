@@ -93,14 +93,44 @@ OpSpec convSpec(std::string name, std::string summary, ConvFunction function, bo
           }};
 }
 
+// x, w and (when bias) b of a convolution example; conv is linear in each, so the step can be large.
+OpExample convExample(std::string name, Shape x, Shape w, int64_t outChannels, bool bias,
+                      std::map<std::string, std::string> attrs) {
+  OpExample example{.name = std::move(name),
+                    .inputs = {{"x", draw::uniform(std::move(x))}, {"w", draw::uniform(std::move(w))}},
+                    .attrs = std::move(attrs),
+                    .gradient = {.step = 0.25}};
+  if (bias) example.inputs.emplace("b", draw::uniform({outChannels}));
+  return example;
+}
+
+OpSpec withExamples(OpSpec spec, std::vector<OpExample> examples) {
+  spec.examples = std::move(examples);
+  return spec;
+}
+
 const bool registered =
-    registerOp(convSpec("conv2d", "y = conv2d(x, w) + b; x [N,C,H,W], w [K,C,kH,kW], b [K]", conv2d, false)) &&
-    registerOp(convSpec("conv3d", "y = conv3d(x, w) + b; x [N,C,D,H,W], w [K,C,kD,kH,kW], b [K]", conv3d, false)) &&
-    registerOp(convSpec("conv_transpose2d", "y = conv_transpose2d(x, w) + b; x [N,C,H,W], w [C,K,kH,kW], b [K]",
-                        convTranspose2d, true)) &&
-    registerOp(convSpec("conv_transpose3d",
-                        "y = conv_transpose3d(x, w) + b; x [N,C,D,H,W], w [C,K,kD,kH,kW], b [K]", convTranspose3d,
-                        true));
+    registerOp(withExamples(
+        convSpec("conv2d", "y = conv2d(x, w) + b; x [N,C,H,W], w [K,C,kH,kW], b [K]", conv2d, false),
+        {convExample("3x3, padding 1, bias", {2, 3, 7, 6}, {5, 3, 3, 3}, 5, true, {{"padding", "1"}}),
+         convExample("2x3, stride 2, no bias", {1, 2, 9, 8}, {4, 2, 2, 3}, 4, false, {{"stride", "2"}}),
+         convExample("1x1", {2, 5, 3, 4}, {3, 5, 1, 1}, 3, true, {})})) &&
+    registerOp(withExamples(
+        convSpec("conv3d", "y = conv3d(x, w) + b; x [N,C,D,H,W], w [K,C,kD,kH,kW], b [K]", conv3d, false),
+        {convExample("3x3x3, stride 2, padding 1, bias", {1, 2, 5, 6, 7}, {3, 2, 3, 3, 3}, 3, true,
+                     {{"stride", "2"}, {"padding", "1"}}),
+         convExample("3x3x3, padding 1, 8 channels", {1, 3, 3, 4, 5}, {8, 3, 3, 3, 3}, 8, false, {{"padding", "1"}})})) &&
+    registerOp(withExamples(
+        convSpec("conv_transpose2d", "y = conv_transpose2d(x, w) + b; x [N,C,H,W], w [C,K,kH,kW], b [K]",
+                 convTranspose2d, true),
+        {convExample("3x3, stride 2, padding 1, output padding 1", {1, 3, 4, 5}, {3, 2, 3, 3}, 2, true,
+                     {{"stride", "2"}, {"padding", "1"}, {"output_padding", "1"}}),
+         convExample("2x2, stride 2", {2, 2, 3, 3}, {2, 4, 2, 2}, 4, false, {{"stride", "2"}})})) &&
+    registerOp(withExamples(
+        convSpec("conv_transpose3d", "y = conv_transpose3d(x, w) + b; x [N,C,D,H,W], w [C,K,kD,kH,kW], b [K]",
+                 convTranspose3d, true),
+        {convExample("2x2x2, stride 2, bias", {1, 2, 2, 3, 3}, {2, 3, 2, 2, 2}, 3, true, {{"stride", "2"}}),
+         convExample("3x3x3, padding 1", {1, 2, 3, 3, 4}, {2, 2, 3, 3, 3}, 2, false, {{"padding", "1"}})}));
 
 }  // namespace
 }  // namespace smokesvd::fn

@@ -31,7 +31,11 @@ const bool registered = registerOp(
      {"y"}, [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
        return std::vector<Var>{dropout(t, in[0], static_cast<float>(attrs.number("p")),
                                        static_cast<uint64_t>(attrs.integer("seed")), attrs.integer("training") != 0)};
-     }});
+     },
+     {{.name = "training", .inputs = {{"x", draw::uniform({2, 3, 5})}}, .attrs = {{"p", "0.4"}, {"seed", "99"}},
+       .gradient = {.step = 0.25}},
+      {.name = "inference", .inputs = {{"x", draw::uniform({3, 7})}}, .attrs = {{"training", "0"}},
+       .gradient = {.step = 0.25}}}});
 
 }  // namespace
 }  // namespace smokesvd::fn

@@ -78,17 +78,27 @@ namespace {
 
 std::vector<Var> one(Var v) { return {std::move(v)}; }
 
+std::vector<OpExample> binaryExamples() {
+  return {{.name = "odd shape", .inputs = {{"a", draw::uniform({3, 5, 7})}, {"b", draw::uniform({3, 5, 7})}},
+           .gradient = {.step = 0.25}}};
+}
+
 const bool registered =
     registerOp({"add", "y = a + b (same shapes)", {"a", "b"}, {}, {}, {"y"},
-                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(add(t, in[0], in[1])); }}) &&
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(add(t, in[0], in[1])); },
+                binaryExamples()}) &&
     registerOp({"sub", "y = a - b (same shapes)", {"a", "b"}, {}, {}, {"y"},
-                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(sub(t, in[0], in[1])); }}) &&
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(sub(t, in[0], in[1])); },
+                binaryExamples()}) &&
     registerOp({"mul", "y = a * b (same shapes)", {"a", "b"}, {}, {}, {"y"},
-                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(mul(t, in[0], in[1])); }}) &&
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(mul(t, in[0], in[1])); },
+                binaryExamples()}) &&
     registerOp({"scale", "y = alpha * x", {"x"}, {}, {{"alpha", "", "the factor"}}, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
                   return one(scale(t, in[0], static_cast<float>(attrs.number("alpha"))));
-                }});
+                },
+                {{.name = "odd shape", .inputs = {{"x", draw::uniform({2, 3, 5})}}, .attrs = {{"alpha", "-1.5"}},
+                  .gradient = {.step = 0.25}}}});
 
 }  // namespace
 }  // namespace smokesvd::fn

@@ -47,7 +47,12 @@ const bool registered = registerOp(
      {"y"}, [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
        return std::vector<Var>{groupNorm(t, in[0], in[1], in[2], static_cast<int>(attrs.integer("groups")),
                                          static_cast<float>(attrs.number("eps")))};
-     }});
+     },
+     {{.name = "2D, odd planes, affine",
+       .inputs = {{"x", draw::uniform({2, 4, 5, 7})}, {"gamma", draw::uniform({4}, 0.5f, 1.5f)}, {"beta", draw::uniform({4})}},
+       .attrs = {{"groups", "2"}}},
+      {.name = "3D, 4-aligned planes, no affine", .inputs = {{"x", draw::uniform({1, 6, 2, 3, 4})}},
+       .attrs = {{"groups", "3"}, {"eps", "1e-3"}}}}});
 
 }  // namespace
 }  // namespace smokesvd::fn

@@ -41,7 +41,13 @@ namespace {
 
 const bool registered = registerOp(
     {"linear", "y = x W^T + b (W [out, in], x [..., in])", {"x", "w"}, {"b"}, {}, {"y"},
-     [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return std::vector<Var>{linear(t, in[0], in[1], in[2])}; }});
+     [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return std::vector<Var>{linear(t, in[0], in[1], in[2])}; },
+     {{.name = "odd sizes, bias",
+       .inputs = {{"x", draw::uniform({3, 5})}, {"w", draw::uniform({7, 5})}, {"b", draw::uniform({7})}},
+       .gradient = {.step = 0.25}},
+      {.name = "leading axes, 4-aligned features, no bias",
+       .inputs = {{"x", draw::uniform({2, 3, 8})}, {"w", draw::uniform({4, 8})}},
+       .gradient = {.step = 0.25}}}});
 
 }  // namespace
 }  // namespace smokesvd::fn

@@ -121,25 +121,51 @@ namespace {
 using Inputs = const std::vector<Var>&;
 const AttrSpec kRange{"data_range", "1", "peak value of the images (their range)"};
 
+// Two images of odd and of 4-aligned shape.
+std::vector<OpExample> pairExamples() {
+  return {{.name = "odd shape", .inputs = {{"a", draw::uniform({2, 3, 5, 7})}, {"b", draw::uniform({2, 3, 5, 7})}}},
+          {.name = "4-aligned shape", .inputs = {{"a", draw::uniform({2, 1, 3, 8})}, {"b", draw::uniform({2, 1, 3, 8})}}}};
+}
+
 const bool registered =
     registerOp({"mse_loss", "loss = mean (a - b)^2", {"a", "b"}, {}, {}, {"loss"},
-                [](Tape& t, Inputs in, const OpAttrs&) { return std::vector<Var>{mseLoss(t, in[0], in[1])}; }}) &&
+                [](Tape& t, Inputs in, const OpAttrs&) { return std::vector<Var>{mseLoss(t, in[0], in[1])}; },
+                pairExamples()}) &&
     registerOp({"l1_loss", "loss = mean |a - b|", {"a", "b"}, {}, {}, {"loss"},
-                [](Tape& t, Inputs in, const OpAttrs&) { return std::vector<Var>{l1Loss(t, in[0], in[1])}; }}) &&
+                [](Tape& t, Inputs in, const OpAttrs&) { return std::vector<Var>{l1Loss(t, in[0], in[1])}; },
+                // a and b on interleaved lattices: |a - b| stays away from its kink at 0
+                {{.name = "odd shape",
+                  .inputs = {{"a", draw::lattice({2, 3, 5, 7}, -1, 1, 0.2f, 0)},
+                             {"b", draw::lattice({2, 3, 5, 7}, -1, 1, 0.2f, 0.5f)}}},
+                 {.name = "4-aligned shape",
+                  .inputs = {{"a", draw::lattice({2, 8}, -1, 1, 0.2f, 0)}, {"b", draw::lattice({2, 8}, -1, 1, 0.2f, 0.5f)}}}}}) &&
     registerOp({"row_sum_loss", "loss = mean over rows of (sum_w a - sum_w b)^2 (L_sp)", {"a", "b"}, {}, {}, {"loss"},
-                [](Tape& t, Inputs in, const OpAttrs&) { return std::vector<Var>{rowSumLoss(t, in[0], in[1])}; }}) &&
+                [](Tape& t, Inputs in, const OpAttrs&) { return std::vector<Var>{rowSumLoss(t, in[0], in[1])}; },
+                pairExamples()}) &&
     registerOp({"psnr", "loss = mean over samples of PSNR(a, b)", {"a", "b"}, {}, {kRange}, {"loss"},
                 [](Tape& t, Inputs in, const OpAttrs& attrs) {
                   return std::vector<Var>{psnr(t, in[0], in[1], static_cast<float>(attrs.number("data_range")))};
-                }}) &&
+                },
+                {{.name = "images in [0, 1]",
+                  .inputs = {{"a", draw::uniform({2, 1, 6, 5}, 0, 1)}, {"b", draw::uniform({2, 1, 6, 5}, 0, 1)}}},
+                 {.name = "range 4, 4-aligned rows",
+                  .inputs = {{"a", draw::uniform({3, 2, 2, 4}, 0, 4)}, {"b", draw::uniform({3, 2, 2, 4}, 0, 4)}},
+                  .attrs = {{"data_range", "4"}}}}}) &&
     registerOp({"psnr_gap_loss", "loss = mean over samples of (PSNR(a, ref) - PSNR(b, ref))^2",
                 {"a", "b", "reference"}, {}, {kRange}, {"loss"},
                 [](Tape& t, Inputs in, const OpAttrs& attrs) {
                   return std::vector<Var>{
                       psnrGapLoss(t, in[0], in[1], in[2], static_cast<float>(attrs.number("data_range")))};
-                }}) &&
+                },
+                {{.name = "images in [0, 1]",
+                  .inputs = {{"a", draw::uniform({2, 1, 5, 6}, 0, 1)},
+                             {"b", draw::uniform({2, 1, 5, 6}, 0, 1)},
+                             {"reference", draw::uniform({2, 1, 5, 6}, 0, 1)}},
+                  .gradient = {.step = 1e-3}}}}) &&
     registerOp({"mean_residual_squared", "loss = mean(x)^2", {"x"}, {}, {}, {"loss"},
-                [](Tape& t, Inputs in, const OpAttrs&) { return std::vector<Var>{meanResidualSquared(t, in[0])}; }});
+                [](Tape& t, Inputs in, const OpAttrs&) { return std::vector<Var>{meanResidualSquared(t, in[0])}; },
+                {{.name = "odd shape", .inputs = {{"x", draw::uniform({3, 5, 7})}}},
+                 {.name = "4-aligned shape", .inputs = {{"x", draw::uniform({2, 4, 4})}}}}});
 
 }  // namespace
 }  // namespace smokesvd::fn

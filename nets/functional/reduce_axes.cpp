@@ -45,15 +45,27 @@ namespace {
 const std::vector<AttrSpec> kAttrs{{"axes", "all", "comma-separated axes (negative from the end) or all"},
                                    {"keepdims", "0", "1 keeps reduced axes with extent 1"}};
 
+std::vector<OpExample> examples() {
+  return {{.name = "channels", .inputs = {{"x", draw::uniform({2, 3, 5, 7})}}, .attrs = {{"axes", "1"}},
+           .gradient = {.step = 0.25}},
+          {.name = "batch and space, keepdims", .inputs = {{"x", draw::uniform({2, 3, 5, 7})}},
+           .attrs = {{"axes", "0,2,3"}, {"keepdims", "1"}}, .gradient = {.step = 0.25}},
+          {.name = "last axis, 4-aligned", .inputs = {{"x", draw::uniform({3, 8})}}, .attrs = {{"axes", "-1"}},
+           .gradient = {.step = 0.25}},
+          {.name = "everything", .inputs = {{"x", draw::uniform({3, 5, 7})}}, .gradient = {.step = 0.25}}};
+}
+
 const bool registered =
     registerOp({"sum", "y = sum of x over axes", {"x"}, {}, kAttrs, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
                   return std::vector<Var>{sum(t, in[0], parseAxes(attrs), attrs.integer("keepdims") != 0)};
-                }}) &&
+                },
+                examples()}) &&
     registerOp({"mean", "y = mean of x over axes", {"x"}, {}, kAttrs, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
                   return std::vector<Var>{mean(t, in[0], parseAxes(attrs), attrs.integer("keepdims") != 0)};
-                }});
+                },
+                examples()});
 
 }  // namespace
 }  // namespace smokesvd::fn

@@ -26,7 +26,12 @@ const bool registered = registerOp(
                                                  static_cast<float>(attrs.number("shift")),
                                                  attrs.integer("cos_first") != 0};
        return std::vector<Var>{timestepEmbedding(tape, in[0], attrs.integer("dim"), params)};
-     }});
+     },
+     {{.name = "DDPM, odd width", .inputs = {{"t", draw::integers({5}, 0, 999)}}, .attrs = {{"dim", "7"}}},
+      {.name = "guided diffusion, cosines first",
+       .inputs = {{"t", draw::integers({2, 3}, 0, 999)}},
+       .attrs = {{"dim", "8"}, {"shift", "0"}, {"cos_first", "1"}}}},
+     Differentiable::No});
 
 }  // namespace
 }  // namespace smokesvd::fn

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "nets/op_registry.h"
+#include "pipeline/differentiable/example_draws.h"
 #include "pipeline/physics/forces.h"
 #include "runtime/error.h"
 
@@ -64,6 +65,37 @@ std::vector<Var> applyVorticity(Tape& tape, const std::vector<Var>& in, const Op
 
 const AttrSpec kDt{"dt", "1", "time step"};
 
+InputDraw velocityDraw(const Shape& volume) { return draw::uniform({3, volume[0], volume[1], volume[2]}); }
+
+// Odd grids run the per-cell kernels, grids of a 4-aligned width the block kernels.
+const Shape kOdd{5, 6, 7}, kAligned{4, 5, 8};
+
+std::vector<OpExample> buoyancyExamples() {
+  return {{.name = "density only, closed box, odd grid",
+           .inputs = {{"velocity", velocityDraw(kOdd)}, {"density", draw::uniform(kOdd, 0, 1)}},
+           .attrs = {{"uniform", "0.1,0,-0.2"}, {"per_density", "0,0.5,0"}}},
+          {.name = "density, temperature and flags, 4-aligned width",
+           .inputs = {{"velocity", velocityDraw(kAligned)},
+                      {"density", draw::uniform(kAligned, 0, 1)},
+                      {"temperature", draw::uniform(kAligned, 0, 1)},
+                      {"flags", flagsDraw(kAligned)}},
+           .attrs = {{"per_density", "0,0.5,0"}, {"per_temperature", "0.1,0.3,0"}, {"dt", "0.5"}}}};
+}
+
+std::vector<OpExample> forceFieldExamples() {
+  return {{.name = "closed box, odd grid", .inputs = {{"velocity", velocityDraw(kOdd)}, {"force", velocityDraw(kOdd)}}},
+          {.name = "flags, 4-aligned width",
+           .inputs = {{"velocity", velocityDraw(kAligned)}, {"force", velocityDraw(kAligned)}, {"flags", flagsDraw(kAligned)}},
+           .attrs = {{"dt", "0.5"}}}};
+}
+
+std::vector<OpExample> vorticityExamples() {
+  return {{.name = "closed box, odd grid", .inputs = {{"velocity", velocityDraw(kOdd)}}},
+          {.name = "flags, 4-aligned width",
+           .inputs = {{"velocity", velocityDraw(kAligned)}, {"flags", flagsDraw(kAligned)}},
+           .attrs = {{"strength", "0.3"}, {"dt", "0.5"}}}};
+}
+
 const bool registered =
     registerOp({"buoyancy",
                 "out = velocity + dt (uniform + per_density rho + per_temperature T) on the faces forces act on: MAC "
@@ -76,21 +108,27 @@ const bool registered =
                  {"per_temperature", "0,0,0", "acceleration per unit temperature x,y,z"},
                  kDt},
                 {"out"},
-                applyBuoyancy}) &&
+                applyBuoyancy,
+                buoyancyExamples(),
+                Differentiable::No}) &&
     registerOp({"force_field",
                 "out = velocity + dt * face average of a cell-centred acceleration force [3,D,H,W] (forward only)",
                 {"velocity", "force"},
                 {"flags"},
                 {kDt},
                 {"out"},
-                applyForceField}) &&
+                applyForceField,
+                forceFieldExamples(),
+                Differentiable::No}) &&
     registerOp({"vorticity_confinement",
                 "out = velocity + dt * strength * N x omega, mantaflow's vorticityConfinement (forward only)",
                 {"velocity"},
                 {"flags"},
                 {{"strength", "0.1", "confinement strength epsilon"}, kDt},
                 {"out"},
-                applyVorticity});
+                applyVorticity,
+                vorticityExamples(),
+                Differentiable::No});
 
 }  // namespace
 }  // namespace smokesvd::diff

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "nets/op_registry.h"
+#include "pipeline/differentiable/example_draws.h"
 #include "runtime/error.h"
 
 namespace smokesvd::diff {
@@ -135,6 +136,47 @@ std::vector<Var> applyAdvect(Tape& tape, const std::vector<Var>& in, const OpAtt
   return one(advect(tape, flagGrid, field, velocity, inflow, params));
 }
 
+// Velocities of up to `speed` cells per step on a [D, H, W] grid.
+InputDraw velocityDraw(const Shape& volume, float speed) {
+  return draw::uniform({3, volume[0], volume[1], volume[2]}, -speed, speed);
+}
+
+// Advection is piecewise smooth: a trace crossing a cell face or MacCormack switching between its
+// correction and the clamp is a kink, so the steps stay small.
+std::vector<OpExample> advectExamples() {
+  const Shape odd{5, 6, 7}, aligned{4, 5, 8};
+  const GradientCheck smallStep{.step = 1e-3, .rtol = 3e-3, .atol = 1e-5};
+  return {{.name = "semi-Lagrangian, density",
+           .inputs = {{"field", draw::uniform(odd, 0, 1)}, {"velocity", velocityDraw(odd, 1.2f)}},
+           .attrs = {{"order", "1"}},
+           .gradient = smallStep},
+          {.name = "MacCormack, density, inflow, obstacles and empty cells",
+           .inputs = {{"field", draw::uniform(odd, 0, 1)},
+                      {"velocity", velocityDraw(odd, 1.2f)},
+                      {"inflow", draw::uniform(odd, 0, 0.5f)},
+                      {"flags", flagsDraw(odd)}},
+           .attrs = {{"dt", "0.8"}},
+           .gradient = smallStep},
+          {.name = "MacCormack, MAC velocity field, 4-aligned width",
+           .inputs = {{"field", velocityDraw(aligned, 1)}, {"velocity", velocityDraw(aligned, 1)}},
+           .attrs = {{"strength", "0.7"}},
+           .gradient = smallStep},
+          {.name = "semi-Lagrangian, MAC field, inflow",
+           .inputs = {{"field", velocityDraw(odd, 1)}, {"velocity", velocityDraw(odd, 1)}, {"inflow", velocityDraw(odd, 0.5f)}},
+           .attrs = {{"order", "1"}, {"dt", "0.5"}},
+           .gradient = smallStep}};
+}
+
+// A linear op of one vector field [3, D, H, W] (or, interleaved, [D, H, W, 3]): odd and 4-aligned grids.
+std::vector<OpExample> vectorFieldExamples(std::map<std::string, std::string> attrs = {}, const std::string& input = "x",
+                                           bool interleaved = false) {
+  auto field = [interleaved](Shape grid) {
+    return draw::uniform(interleaved ? Shape{grid[0], grid[1], grid[2], 3} : Shape{3, grid[0], grid[1], grid[2]});
+  };
+  return {{.name = "odd grid", .inputs = {{input, field({5, 6, 7})}}, .attrs = attrs, .gradient = {.step = 0.25}},
+          {.name = "4-aligned width", .inputs = {{input, field({3, 4, 8})}}, .attrs = attrs, .gradient = {.step = 0.25}}};
+}
+
 const bool registered =
     registerOp({"advect",
                 "out = A(field, velocity) + inflow: field [D,H,W] at cell centres or MAC [3,D,H,W], velocity MAC "
@@ -145,29 +187,43 @@ const bool registered =
                  {"dt", "1", "time step"},
                  {"strength", "1", "MacCormack correction strength"}},
                 {"out"},
-                applyAdvect}) &&
+                applyAdvect,
+                advectExamples()}) &&
     registerOp({"mac_to_centred", "y = cell-centred average of a MAC velocity [3,D,H,W]", {"x"}, {}, {}, {"y"},
-                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(macToCentred(t, in[0])); }}) &&
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(macToCentred(t, in[0])); },
+                vectorFieldExamples()}) &&
     registerOp({"centred_to_mac", "y = MAC face average of a cell-centred velocity [3,D,H,W]", {"x"}, {}, {}, {"y"},
-                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(centredToMac(t, in[0])); }}) &&
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(centredToMac(t, in[0])); },
+                vectorFieldExamples()}) &&
     registerOp({"divergence", "y [D,H,W] = divergence of a velocity [3,D,H,W]", {"velocity"}, {},
                 {{"staggering", "mac", "mac (face differences) or centred (central differences)"}}, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
                   return one(divergence(t, in[0], parseStaggering(attrs.text("staggering"))));
-                }}) &&
+                },
+                {vectorFieldExamples({{"staggering", "mac"}}, "velocity")[0],
+                 {.name = "centred, 4-aligned width",
+                  .inputs = {{"velocity", draw::uniform({3, 3, 4, 8})}},
+                  .attrs = {{"staggering", "centred"}},
+                  .gradient = {.step = 0.25}}}}) &&
     registerOp({"curl", "y [3,D,H,W] = curl of a cell-centred velocity [3,D,H,W]", {"velocity"}, {}, {}, {"y"},
-                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(curl(t, in[0])); }}) &&
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(curl(t, in[0])); },
+                vectorFieldExamples({}, "velocity")}) &&
     registerOp({"gradient_norm", "y [D,H,W] = squared Frobenius norm of the velocity gradient (cell-centred)",
                 {"velocity"}, {}, {}, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs&) {
                   return one(gradientNormSquared(t, in[0]));
-                }}) &&
+                },
+                {{.name = "odd grid", .inputs = {{"velocity", draw::uniform({3, 5, 6, 7})}}},
+                 {.name = "4-aligned width", .inputs = {{"velocity", draw::uniform({3, 3, 4, 8})}}}}}) &&
     registerOp({"velocity_to_planar", "y [3,D,H,W] = x [D,H,W,3] (file layout to kernel layout)", {"x"}, {}, {}, {"y"},
-                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(velocityToPlanar(t, in[0])); }}) &&
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) { return one(velocityToPlanar(t, in[0])); },
+                vectorFieldExamples({}, "x", true)}) &&
     registerOp({"velocity_to_interleaved", "y [D,H,W,3] = x [3,D,H,W] (kernel layout to file layout)", {"x"}, {}, {},
-                {"y"}, [](Tape& t, const std::vector<Var>& in, const OpAttrs&) {
+                {"y"},
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs&) {
                   return one(velocityToInterleaved(t, in[0]));
-                }});
+                },
+                vectorFieldExamples()});
 
 }  // namespace
 }  // namespace smokesvd::diff

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "nets/op_registry.h"
+#include "pipeline/differentiable/example_draws.h"
 #include "runtime/error.h"
 
 namespace smokesvd::diff {
@@ -66,7 +67,16 @@ const bool registered = registerOp(
      {{"tolerance", "1e-5", "relative residual max|r| / max|div u| the solve stops at"},
       {"max_iterations", "200", "conjugate-gradient iterations before the solve is an error"}},
      {"out"},
-     applyProject});
+     applyProject,
+     // The projection is linear, so the step is large; the solves are tight to keep their error below it.
+     {{.name = "closed box, odd grid",
+       .inputs = {{"velocity", draw::uniform({3, 5, 6, 7})}},
+       .attrs = {{"tolerance", "1e-6"}},
+       .gradient = {.step = 1}},
+      {.name = "obstacles and empty cells, 4-aligned grid with multigrid levels",
+       .inputs = {{"velocity", draw::uniform({3, 8, 8, 8})}, {"flags", flagsDraw({8, 8, 8}, 0.05f, 0.05f)}},
+       .attrs = {{"tolerance", "1e-6"}},
+       .gradient = {.step = 1}}}});
 
 }  // namespace
 }  // namespace smokesvd::diff

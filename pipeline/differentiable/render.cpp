@@ -125,6 +125,43 @@ std::vector<AttrSpec> liftAttrs() {
   return attrs;
 }
 
+// Densities kept positive under the finite-difference steps.
+InputDraw densityDraw(Shape shape) { return draw::uniform(std::move(shape), 0.05f, 1.0f); }
+
+// The scatter kernels add in any order on GPUs (render/atomics.h): gradients agree to float rounding there.
+constexpr double kScatterRepeat = 1e-5;
+
+std::vector<OpExample> renderExamples() {
+  return {{.name = "two orbit views, no light",
+           .inputs = {{"density", densityDraw({5, 6, 7})}},
+           .attrs = {{"angles", "0,90"}, {"absorption", "0.7"}},
+           .repeatTolerance = kScatterRepeat},
+          {.name = "one view at 30 degrees, other image size, directional light",
+           .inputs = {{"density", densityDraw({4, 5, 6})}},
+           .attrs = {{"angles", "30"}, {"width", "9"}, {"height", "5"}, {"light", "0.3,1,-0.4"}, {"ambient", "0.4"},
+                     {"light_intensity", "0.8"}, {"step", "0.7"}},
+           .repeatTolerance = kScatterRepeat},
+          {.name = "light, compare-and-swap scatter",
+           .inputs = {{"density", densityDraw({4, 5, 6})}},
+           .attrs = {{"angles", "-20,60"}, {"light", "-0.5,1,0.5"}, {"light_absorption", "0.5"}},
+           .repeatTolerance = kScatterRepeat,
+           .noFloatAtomics = true}};
+}
+
+std::vector<OpExample> liftExamples() {
+  return {{.name = "two orbit views",
+           .inputs = {{"images", draw::uniform({2, 1, 5, 7})}},
+           .attrs = {{"angles", "0,90"}, {"grid", "4,5,7"}},
+           .gradient = {.step = 0.25},
+           .repeatTolerance = kScatterRepeat},
+          {.name = "three views of another size, compare-and-swap scatter",
+           .inputs = {{"images", draw::uniform({3, 1, 4, 6})}},
+           .attrs = {{"angles", "15,75,135"}, {"grid", "5,4,5"}, {"width", "6"}, {"height", "4"}},
+           .gradient = {.step = 0.25},
+           .repeatTolerance = kScatterRepeat,
+           .noFloatAtomics = true}};
+}
+
 const bool registered =
     registerOp({"render", "emission-absorption rendering of density [D,H,W] to images [V,1,h,w]", {"density"}, {},
                 renderAttrs(), {"images"},
@@ -132,18 +169,26 @@ const bool registered =
                   const GridSize grid = render::volumeGrid(in[0]->value, "op render: density");
                   return std::vector<Var>{
                       render(t, in[0], viewsFromAttrs(t.context(), attrs, grid), settingsFromAttrs(attrs))};
-                }}) &&
+                },
+                renderExamples()}) &&
     registerOp({"lift", "images [V,1,h,w] spread along camera rays into [1,V,D,H,W]", {"images"}, {}, liftAttrs(),
                 {"lifted"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
                   const GridSize grid = gridAttr(attrs);
                   return std::vector<Var>{lift(t, in[0], viewsFromAttrs(t.context(), attrs, grid), grid)};
-                }}) &&
+                },
+                liftExamples()}) &&
     registerOp({"rotate", "volume [...,D,H,W] turned about the vertical axis by angle degrees", {"x"}, {},
                 {{"angle", "", "degrees"}}, {"y"},
                 [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
                   return std::vector<Var>{rotate(t, in[0], attrs.number("angle"))};
-                }});
+                },
+                {{.name = "one volume, 30 degrees", .inputs = {{"x", draw::uniform({5, 6, 7})}}, .attrs = {{"angle", "30"}},
+                  .gradient = {.step = 0.25}},
+                 {.name = "channels of volumes, -90 degrees",
+                  .inputs = {{"x", draw::uniform({2, 3, 4, 5, 4})}},
+                  .attrs = {{"angle", "-90"}},
+                  .gradient = {.step = 0.25}}}});
 
 }  // namespace
 }  // namespace smokesvd::diff

@@ -1,0 +1,30 @@
+#include "tests/nets/shaders_without_ops.h"
+
+namespace smokesvd::testing {
+
+const std::vector<ShaderCoveredElsewhere>& shadersWithoutOps() {
+  static const std::vector<ShaderCoveredElsewhere> table = {
+      // benchmarks and the device's reference figures
+      {"bench/fma_peak", "tests/cli/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
+      {"tensor/copy_storage", "tests/cli/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
+      {"tensor/empty", "tests/cli/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
+      // the optimiser and the diffusion sampler
+      {"nn/adam", "tests/nn/adam_test.cpp", "AdamTest.TenStepsMatchDoubleReference"},
+      {"nn/optimizer_step", "tests/nn/adam_test.cpp", "AdamTest.TenStepsMatchDoubleReference"},
+      {"nn/grad_norm", "tests/nn/optim_test.cpp", "OptimTest.ClippingMatchesDoubleReference"},
+      {"nn/clip_factor", "tests/nn/optim_test.cpp", "OptimTest.ClippingMatchesDoubleReference"},
+      {"nn/clip_grad", "tests/nn/optim_test.cpp", "OptimTest.ClippingMatchesDoubleReference"},
+      {"nn/ema", "tests/nn/optim_test.cpp", "OptimTest.EmaFollowsDoubleReference"},
+      {"nn/ddim_step", "tests/nets/diffusion/ddim_test.cpp", "DdimTest.StepKernelMatchesTheFormula"},
+      // the simulator's inflow sources
+      {"physics/inflow_density", "tests/sim/sources_test.cpp", "SourcesTest.DensityAndTemperatureInflowOfEveryShapeAndMode"},
+      {"physics/inflow_velocity", "tests/sim/sources_test.cpp", "SourcesTest.VelocityBlendsOverCoveredFaces"},
+      // tensor utilities
+      {"tensor/copy", "tests/runtime/elementwise_test.cpp", "ElementwiseTest.CopyAddSubMulDiv"},
+      {"tensor/count_items", "tests/runtime/flat_index_test.cpp", "FlatIndexTest.TwoRowDispatchVisitsEveryItemOnce"},
+      {"tensor/reduce", "tests/runtime/reduce_test.cpp", "ReduceTest.SumMaxMeanMatchDoubleReference"},
+  };
+  return table;
+}
+
+}  // namespace smokesvd::testing
