@@ -1,0 +1,250 @@
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "nets/functional/broadcast.h"
+#include "nets/io/npy.h"
+#include "nets/models/model_json.h"
+#include "nets/modules/weights.h"
+#include "pipeline/differentiable/render.h"
+#include "pipeline/networks/density_generator.h"
+#include "pipeline/networks/network_config.h"
+#include "pipeline/networks/refiner.h"
+#include "pipeline/networks/side_view_synthesizer.h"
+#include "pipeline/networks/velocity_generator.h"
+#include "pipeline/networks/view_slots.h"
+#include "pipeline/preset.h"
+#include "tests/harness/gpu_test.h"
+#include "tests/harness/random.h"
+
+namespace smokesvd::testing {
+namespace {
+
+// Every network of the tiny preset, built here with random values in every parameter, against its
+// PyTorch twin (tools/compare/smokesvd_models.py) run on the same weights (model.safetensors), config
+// (config.json) and random inputs: the architecture on its input x (with every deep-supervision head of
+// the UNet3+ networks) and the network with its input encoding (pipeline/networks). The twin runs in
+// float64, so the figures measure smokesvd's float32 arithmetic. Criterion, for every output array y
+// against the twin's t (shapes equal, every element finite):
+//   max_i |y_i - t_i| <= 1e-4 max_i |t_i|
+// Skipped, with a message, when no Python 3 on this machine imports torch and numpy.
+
+namespace fs = std::filesystem;
+using networks::Network;
+
+constexpr double kTolerance = 1e-4;
+
+std::string slurp(const fs::path& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+// /usr/bin/python3 first: the python3 on PATH may be another installation without Debian's torch.
+const std::string& torchPython() {
+  static const std::string found = [] {
+    for (const std::string candidate : {"/usr/bin/python3", "python3"})
+      if (std::system((candidate + " -c 'import torch, numpy' >/dev/null 2>&1").c_str()) == 0) return candidate;
+    return std::string();
+  }();
+  return found;
+}
+
+// A fresh folder (mkdtemp), removed with its files when the object goes.
+class Folder {
+ public:
+  Folder() {
+    std::string pattern = (fs::temp_directory_path() / "smokesvd-twin-XXXXXX").string();
+    if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed for " + pattern);
+    path_ = pattern;
+  }
+  ~Folder() { fs::remove_all(path_); }
+  Folder(const Folder&) = delete;
+  Folder& operator=(const Folder&) = delete;
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  fs::path path_;
+};
+
+// Every parameter uniform on [-b, b): b = sqrt(3 / fan_in) for weights (fan_in = values per output row),
+// 0.5 for biases and norm scales, so that no rule of the networks' own initialisation (zero convs,
+// GroupNorm's ones) hides a parameter from the comparison.
+void randomizeEveryParameter(const modules::Module& module, uint64_t seed) {
+  for (const auto& [name, p] : module.namedParameters()) {
+    const Tensor& value = p->value;
+    const double bound = value.rank() > 1 ? std::sqrt(3.0 * static_cast<double>(value.size(0)) / static_cast<double>(value.numel())) : 0.5;
+    value.upload(randomValues(static_cast<std::size_t>(value.numel()), seed++, static_cast<float>(-bound),
+                              static_cast<float>(bound)));
+  }
+}
+
+class PyTorchTwinTest : public GpuTest, public ::testing::WithParamInterface<Network> {
+ protected:
+  // A random input: uploaded for smokesvd and written for the twin under `key`.
+  Var input(const std::string& key, const Shape& shape, float low, float high) {
+    std::vector<float> values;
+    const Var v = variable(randomTensor(context(), shape, seed_++, low, high, &values));
+    inputs_[key] = io::NpyArray::fromFloats(shape, values);
+    return v;
+  }
+  Var given(const std::string& key, const Shape& shape, const std::vector<float>& values) {
+    write(key, shape, values);
+    return variable(Tensor::fromHost(context(), shape, values));
+  }
+  // An input for the twin only.
+  void write(const std::string& key, const Shape& shape, const std::vector<float>& values) {
+    inputs_[key] = io::NpyArray::fromFloats(shape, values);
+  }
+  // A smokesvd output the twin must reproduce under `key`.
+  void expect(const std::string& key, const Var& output) { expected_[key] = output; }
+
+  // Writes config, weights and inputs, runs the twin and compares every expected output.
+  void compareWithTwin(const modules::Module& net) {
+    const Folder folder;
+    {
+      std::ofstream config(folder / "config.json");
+      config << networks::toJson(config_).dump(2);
+    }
+    modules::saveWeights(folder / "model.safetensors", net);
+    io::writeNpz(folder / "inputs.npz", inputs_);
+    const std::string command = torchPython() + " " SMOKESVD_SOURCE_DIR "/tools/compare/smokesvd_models.py " +
+                                (folder / "").string() + " --inputs " + (folder / "inputs.npz").string() +
+                                " --out " + (folder / "outputs.npz").string() +
+                                " --deep-supervision --dtype float64 2>" + (folder / "stderr.txt").string();
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0)
+        << command << "\n" << slurp(folder / "stderr.txt");
+    const std::map<std::string, io::NpyArray> twin = io::readNpz(folder / "outputs.npz");
+    ASSERT_EQ(twin.size(), expected_.size()) << "the twin's outputs differ from those expected";
+    for (const auto& [key, output] : expected_) {
+      const auto found = twin.find(key);
+      ASSERT_NE(found, twin.end()) << "the twin wrote no '" << key << "'";
+      compare(key, output->value.download(), output->value.shape(), found->second);
+    }
+  }
+
+  networks::NetworkConfig config_ = networks::defaultNetworkConfig("tiny", GetParam());
+  const Preset& preset_ = preset("tiny");
+
+ private:
+  void compare(const std::string& key, const std::vector<float>& ours, const Shape& shape, const io::NpyArray& theirs) {
+    ASSERT_EQ(theirs.shape, shape) << key;
+    const std::vector<float> reference = theirs.toFloat();
+    double difference = 0, scale = 0;
+    for (std::size_t i = 0; i < ours.size(); ++i) {
+      ASSERT_TRUE(std::isfinite(ours[i]) && std::isfinite(reference[i])) << key << " element " << i;
+      difference = std::max(difference, std::abs(static_cast<double>(ours[i]) - reference[i]));
+      scale = std::max(scale, std::abs(static_cast<double>(reference[i])));
+    }
+    ASSERT_GT(scale, 0.0) << key << " is zero: the comparison would say nothing";
+    std::printf("  %-12s %-14s max|smokesvd - torch| / max|torch| = %.2e  (max|torch| = %.3g)\n",
+                networks::networkName(GetParam()).c_str(), key.c_str(), difference / scale, scale);
+    EXPECT_LE(difference, kTolerance * scale) << key;
+  }
+
+  uint64_t seed_ = 100;
+  std::map<std::string, io::NpyArray> inputs_;
+  std::map<std::string, Var> expected_;
+};
+
+// The UNet3+ outputs to compare: y and every deep-supervision head.
+void expectUNet3Plus(const models::UNet3PlusOutput& out, const std::function<void(const std::string&, const Var&)>& expect) {
+  expect("y", out.output);
+  for (std::size_t k = 0; k < out.supervision.size(); ++k) expect("supervision_" + std::to_string(k + 1), out.supervision[k]);
+}
+
+TEST_P(PyTorchTwinTest, ReproducesTheNetwork) {
+  if (torchPython().empty())
+    GTEST_SKIP() << "no Python 3 that imports torch and numpy (/usr/bin/python3 or python3 on PATH); "
+                    "tools/install-deps.sh installs Debian's python3-torch python3-numpy";
+  const Network network = GetParam();
+  const std::string where = config_.source + " [model]";
+  const GridSize& grid = preset_.grid;
+  const int64_t h = preset_.imageHeight, w = preset_.imageWidth;
+  Stream stream(context());
+  Tape tape(stream);
+  NoGrad noGrad(tape);
+  auto expect = [&](const std::string& key, const Var& v) { this->expect(key, v); };
+
+  if (network == Network::GrhoCoarse || network == Network::GrhoFine) {
+    networks::DensityGenerator generator(context(), models::unet3PlusFromJson(config_.model, where), preset_);
+    randomizeEveryParameter(generator.net(), 1);
+    // The front and side views in their slots (the coarse G_rho's case), one presence for both calls.
+    std::vector<float> slots(networks::kSlots, 0.0f);
+    slots[networks::kFrontSlot] = slots[networks::kSideSlot] = 1;
+    const Var presence = given("presence", {networks::kSlots}, slots);
+    // Architecture: a random volume.
+    const Var x = input("x", {1, networks::kSlots, grid.z, grid.y, grid.x}, 0, 1);
+    expectUNet3Plus(generator.net().forward(tape, x, fn::reshape(tape, presence, {1, networks::kSlots}), true), expect);
+    // Network: random images lifted here; the twin gets the lifted volume.
+    const Var images = generator.slotImages(
+        tape, {{networks::kFrontSlot, variable(randomTensor(context(), {1, 1, h, w}, 7, 0, 1))},
+               {networks::kSideSlot, variable(randomTensor(context(), {1, 1, h, w}, 8, 0, 1))}});
+    const Var lifted = diff::lift(tape, images, generator.views(), generator.grid());
+    expect("density", generator.forward(tape, images, presence).density);
+    stream.submit();
+    write("lifted", {networks::kSlots, grid.z, grid.y, grid.x}, lifted->value.download());
+    compareWithTwin(generator.net());
+    return;
+  }
+  if (network == Network::Gu) {
+    networks::VelocityGenerator generator(context(), models::unet3PlusFromJson(config_.model, where), preset_);
+    randomizeEveryParameter(generator.net(), 2);
+    expectUNet3Plus(generator.net().forward(tape, input("x", {1, 2, grid.z, grid.y, grid.x}, 0, 1), nullptr, true),
+                    expect);
+    expect("velocity", generator.forward(tape, input("current", grid.volume(), 0, 1), input("next", grid.volume(), 0, 1))
+                           .velocity);
+    stream.submit();
+    compareWithTwin(generator.net());
+    return;
+  }
+  if (network == Network::NvRef) {
+    networks::Refiner refiner(context(), models::unet3PlusFromJson(config_.model, where));
+    randomizeEveryParameter(refiner.net(), 3);
+    expectUNet3Plus(refiner.net().forward(tape, input("x", {2, 5, h, w}, 0, 1), nullptr, true), expect);
+    const Shape image{2, 1, h, w};
+    const networks::RefinerOutput out =
+        refiner.forward(tape, input("render", image, 0, 1), input("minus", image, 0, 1), input("plus", image, 0, 1),
+                        input("previous", image, 0, 1), input("before_previous", image, 0, 1));
+    expect("refined", out.refined);
+    expect("residual", out.residual);
+    stream.submit();
+    compareWithTwin(refiner.net());
+    return;
+  }
+  const bool initial = network == Network::SvDiffInit;
+  const int samples = initial ? 2 : 1, conditions = initial ? 2 : 5;
+  networks::SideViewSynthesizer synthesizer(context(), models::ddpmUNetFromJson(config_.model, where), samples,
+                                            conditions);
+  randomizeEveryParameter(synthesizer.net(), 4);
+  expect("y", synthesizer.net().forward(tape, input("x", {2, samples + conditions, h, w}, -1, 1),
+                                        given("t", {2}, {3, 917})));
+  expect("eps", synthesizer.predictNoise(tape, input("noisy", {2, samples, h, w}, -1, 1),
+                                         input("condition", {2, conditions, h, w}, 0, 1), given("steps", {2}, {41, 650})));
+  stream.submit();
+  compareWithTwin(synthesizer.net());
+}
+
+INSTANTIATE_TEST_SUITE_P(EveryNetwork, PyTorchTwinTest, ::testing::ValuesIn(networks::allNetworks()),
+                         [](const ::testing::TestParamInfo<Network>& param) {
+                           std::string name = networks::networkName(param.param);
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
+
+}  // namespace
+}  // namespace smokesvd::testing
