@@ -1,5 +1,4 @@
 #include <gtest/gtest.h>
-#include <stdlib.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -7,7 +6,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <functional>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -28,6 +26,14 @@
 #include "pipeline/preset.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
+#include "tests/harness/temp_dir.h"
+
+namespace smokesvd::networks {
+
+// Test names and messages show the network by name.
+void PrintTo(Network network, std::ostream* out) { *out << networkName(network); }
+
+}  // namespace smokesvd::networks
 
 namespace smokesvd::testing {
 namespace {
@@ -63,30 +69,14 @@ const std::string& torchPython() {
   return found;
 }
 
-// A fresh folder (mkdtemp), removed with its files when the object goes.
-class Folder {
- public:
-  Folder() {
-    std::string pattern = (fs::temp_directory_path() / "smokesvd-twin-XXXXXX").string();
-    if (!::mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp failed for " + pattern);
-    path_ = pattern;
-  }
-  ~Folder() { fs::remove_all(path_); }
-  Folder(const Folder&) = delete;
-  Folder& operator=(const Folder&) = delete;
-  fs::path operator/(const std::string& name) const { return path_ / name; }
-
- private:
-  fs::path path_;
-};
-
 // Every parameter uniform on [-b, b): b = sqrt(3 / fan_in) for weights (fan_in = values per output row),
 // 0.5 for biases and norm scales, so that no rule of the networks' own initialisation (zero convs,
 // GroupNorm's ones) hides a parameter from the comparison.
 void randomizeEveryParameter(const modules::Module& module, uint64_t seed) {
   for (const auto& [name, p] : module.namedParameters()) {
     const Tensor& value = p->value;
-    const double bound = value.rank() > 1 ? std::sqrt(3.0 * static_cast<double>(value.size(0)) / static_cast<double>(value.numel())) : 0.5;
+    const double fanIn = static_cast<double>(value.numel()) / static_cast<double>(value.size(0));
+    const double bound = value.rank() > 1 ? std::sqrt(3.0 / fanIn) : 0.5;
     value.upload(randomValues(static_cast<std::size_t>(value.numel()), seed++, static_cast<float>(-bound),
                               static_cast<float>(bound)));
   }
@@ -98,7 +88,7 @@ class PyTorchTwinTest : public GpuTest, public ::testing::WithParamInterface<Net
   Var input(const std::string& key, const Shape& shape, float low, float high) {
     std::vector<float> values;
     const Var v = variable(randomTensor(context(), shape, seed_++, low, high, &values));
-    inputs_[key] = io::NpyArray::fromFloats(shape, values);
+    write(key, shape, values);
     return v;
   }
   Var given(const std::string& key, const Shape& shape, const std::vector<float>& values) {
@@ -111,10 +101,15 @@ class PyTorchTwinTest : public GpuTest, public ::testing::WithParamInterface<Net
   }
   // A smokesvd output the twin must reproduce under `key`.
   void expect(const std::string& key, const Var& output) { expected_[key] = output; }
+  // The UNet3+ outputs: y and every deep-supervision head.
+  void expect(const models::UNet3PlusOutput& out) {
+    expect("y", out.output);
+    for (std::size_t k = 0; k < out.supervision.size(); ++k) expect("supervision_" + std::to_string(k + 1), out.supervision[k]);
+  }
 
   // Writes config, weights and inputs, runs the twin and compares every expected output.
   void compareWithTwin(const modules::Module& net) {
-    const Folder folder;
+    const TempDir folder("twin");
     {
       std::ofstream config(folder / "config.json");
       config << networks::toJson(config_).dump(2);
@@ -122,9 +117,9 @@ class PyTorchTwinTest : public GpuTest, public ::testing::WithParamInterface<Net
     modules::saveWeights(folder / "model.safetensors", net);
     io::writeNpz(folder / "inputs.npz", inputs_);
     const std::string command = torchPython() + " " SMOKESVD_SOURCE_DIR "/tools/compare/smokesvd_models.py " +
-                                (folder / "").string() + " --inputs " + (folder / "inputs.npz").string() +
-                                " --out " + (folder / "outputs.npz").string() +
-                                " --deep-supervision --dtype float64 2>" + (folder / "stderr.txt").string();
+                                folder.path().string() + " --inputs " + folder.file("inputs.npz") +
+                                " --out " + folder.file("outputs.npz") +
+                                " --deep-supervision --dtype float64 2>" + folder.file("stderr.txt");
     const int status = std::system(command.c_str());
     ASSERT_TRUE(status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0)
         << command << "\n" << slurp(folder / "stderr.txt");
@@ -161,12 +156,6 @@ class PyTorchTwinTest : public GpuTest, public ::testing::WithParamInterface<Net
   std::map<std::string, Var> expected_;
 };
 
-// The UNet3+ outputs to compare: y and every deep-supervision head.
-void expectUNet3Plus(const models::UNet3PlusOutput& out, const std::function<void(const std::string&, const Var&)>& expect) {
-  expect("y", out.output);
-  for (std::size_t k = 0; k < out.supervision.size(); ++k) expect("supervision_" + std::to_string(k + 1), out.supervision[k]);
-}
-
 TEST_P(PyTorchTwinTest, ReproducesTheNetwork) {
   if (torchPython().empty())
     GTEST_SKIP() << "no Python 3 that imports torch and numpy (/usr/bin/python3 or python3 on PATH); "
@@ -178,22 +167,23 @@ TEST_P(PyTorchTwinTest, ReproducesTheNetwork) {
   Stream stream(context());
   Tape tape(stream);
   NoGrad noGrad(tape);
-  auto expect = [&](const std::string& key, const Var& v) { this->expect(key, v); };
 
   if (network == Network::GrhoCoarse || network == Network::GrhoFine) {
     networks::DensityGenerator generator(context(), models::unet3PlusFromJson(config_.model, where), preset_);
     randomizeEveryParameter(generator.net(), 1);
-    // The front and side views in their slots (the coarse G_rho's case), one presence for both calls.
+    // Views in four slots (front, side and two others), one presence for both calls.
     std::vector<float> slots(networks::kSlots, 0.0f);
-    slots[networks::kFrontSlot] = slots[networks::kSideSlot] = 1;
+    std::vector<std::pair<int, Var>> views;
+    for (const int slot : {networks::kFrontSlot, 3, networks::kSideSlot, 13}) {
+      slots[static_cast<std::size_t>(slot)] = 1;
+      views.emplace_back(slot, variable(randomTensor(context(), {1, 1, h, w}, 10 + static_cast<uint64_t>(slot), 0, 1)));
+    }
     const Var presence = given("presence", {networks::kSlots}, slots);
     // Architecture: a random volume.
     const Var x = input("x", {1, networks::kSlots, grid.z, grid.y, grid.x}, 0, 1);
-    expectUNet3Plus(generator.net().forward(tape, x, fn::reshape(tape, presence, {1, networks::kSlots}), true), expect);
-    // Network: random images lifted here; the twin gets the lifted volume.
-    const Var images = generator.slotImages(
-        tape, {{networks::kFrontSlot, variable(randomTensor(context(), {1, 1, h, w}, 7, 0, 1))},
-               {networks::kSideSlot, variable(randomTensor(context(), {1, 1, h, w}, 8, 0, 1))}});
+    expect(generator.net().forward(tape, x, fn::reshape(tape, presence, {1, networks::kSlots}), true));
+    // Network: the views lifted here; the twin gets the lifted volume.
+    const Var images = generator.slotImages(tape, views);
     const Var lifted = diff::lift(tape, images, generator.views(), generator.grid());
     expect("density", generator.forward(tape, images, presence).density);
     stream.submit();
@@ -204,8 +194,7 @@ TEST_P(PyTorchTwinTest, ReproducesTheNetwork) {
   if (network == Network::Gu) {
     networks::VelocityGenerator generator(context(), models::unet3PlusFromJson(config_.model, where), preset_);
     randomizeEveryParameter(generator.net(), 2);
-    expectUNet3Plus(generator.net().forward(tape, input("x", {1, 2, grid.z, grid.y, grid.x}, 0, 1), nullptr, true),
-                    expect);
+    expect(generator.net().forward(tape, input("x", {1, 2, grid.z, grid.y, grid.x}, 0, 1), nullptr, true));
     expect("velocity", generator.forward(tape, input("current", grid.volume(), 0, 1), input("next", grid.volume(), 0, 1))
                            .velocity);
     stream.submit();
@@ -215,7 +204,7 @@ TEST_P(PyTorchTwinTest, ReproducesTheNetwork) {
   if (network == Network::NvRef) {
     networks::Refiner refiner(context(), models::unet3PlusFromJson(config_.model, where));
     randomizeEveryParameter(refiner.net(), 3);
-    expectUNet3Plus(refiner.net().forward(tape, input("x", {2, 5, h, w}, 0, 1), nullptr, true), expect);
+    expect(refiner.net().forward(tape, input("x", {2, 5, h, w}, 0, 1), nullptr, true));
     const Shape image{2, 1, h, w};
     const networks::RefinerOutput out =
         refiner.forward(tape, input("render", image, 0, 1), input("minus", image, 0, 1), input("plus", image, 0, 1),
