@@ -5,20 +5,20 @@ namespace smokesvd::testing {
 const std::vector<ShaderCoveredElsewhere>& shadersWithoutOps() {
   static const std::vector<ShaderCoveredElsewhere> table = {
       // benchmarks and the device's reference figures
-      {"bench/fma_peak", "tests/cli/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
-      {"tensor/copy_storage", "tests/cli/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
-      {"tensor/empty", "tests/cli/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
+      {"bench/fma_peak", "tests/tools/smokesvd/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
+      {"tensor/copy_storage", "tests/tools/smokesvd/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
+      {"tensor/empty", "tests/tools/smokesvd/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
       // the optimiser and the diffusion sampler
-      {"nn/adam", "tests/nn/adam_test.cpp", "AdamTest.TenStepsMatchDoubleReference"},
-      {"nn/optimizer_step", "tests/nn/adam_test.cpp", "AdamTest.TenStepsMatchDoubleReference"},
-      {"nn/grad_norm", "tests/nn/optim_test.cpp", "OptimTest.ClippingMatchesDoubleReference"},
-      {"nn/clip_factor", "tests/nn/optim_test.cpp", "OptimTest.ClippingMatchesDoubleReference"},
-      {"nn/clip_grad", "tests/nn/optim_test.cpp", "OptimTest.ClippingMatchesDoubleReference"},
-      {"nn/ema", "tests/nn/optim_test.cpp", "OptimTest.EmaFollowsDoubleReference"},
+      {"nn/adam", "tests/nets/optim/adam_test.cpp", "AdamTest.TenStepsMatchDoubleReference"},
+      {"nn/optimizer_step", "tests/nets/optim/adam_test.cpp", "AdamTest.TenStepsMatchDoubleReference"},
+      {"nn/grad_norm", "tests/nets/optim/optim_test.cpp", "OptimTest.ClippingMatchesDoubleReference"},
+      {"nn/clip_factor", "tests/nets/optim/optim_test.cpp", "OptimTest.ClippingMatchesDoubleReference"},
+      {"nn/clip_grad", "tests/nets/optim/optim_test.cpp", "OptimTest.ClippingMatchesDoubleReference"},
+      {"nn/ema", "tests/nets/optim/optim_test.cpp", "OptimTest.EmaFollowsDoubleReference"},
       {"nn/ddim_step", "tests/nets/diffusion/ddim_test.cpp", "DdimTest.StepKernelMatchesTheFormula"},
       // the simulator's inflow sources
-      {"physics/inflow_density", "tests/sim/sources_test.cpp", "SourcesTest.DensityAndTemperatureInflowOfEveryShapeAndMode"},
-      {"physics/inflow_velocity", "tests/sim/sources_test.cpp", "SourcesTest.VelocityBlendsOverCoveredFaces"},
+      {"physics/inflow_density", "tests/pipeline/physics/sources_test.cpp", "SourcesTest.DensityAndTemperatureInflowOfEveryShapeAndMode"},
+      {"physics/inflow_velocity", "tests/pipeline/physics/sources_test.cpp", "SourcesTest.VelocityBlendsOverCoveredFaces"},
       // tensor utilities
       {"tensor/copy", "tests/runtime/elementwise_test.cpp", "ElementwiseTest.CopyAddSubMulDiv"},
       {"tensor/count_items", "tests/runtime/flat_index_test.cpp", "FlatIndexTest.TwoRowDispatchVisitsEveryItemOnce"},

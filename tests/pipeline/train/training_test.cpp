@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <unistd.h>
 
 #include "nets/io/safetensors.h"
 #include "pipeline/dataset/scene_dataset.h"
@@ -15,14 +14,17 @@
 #include "pipeline/train/training_run.h"
 #include "runtime/error.h"
 #include "tests/harness/gpu_test.h"
+#include "tests/harness/temp_dir.h"
 
 namespace smokesvd::testing {
 namespace {
 
 namespace fs = std::filesystem;
 
+// A fresh folder `name` inside this program's TempDir (removed when the program ends).
 fs::path scratch(const std::string& name) {
-  const fs::path path = fs::temp_directory_path() / ("smokesvd_training_" + std::to_string(getpid())) / name;
+  static const TempDir root("training");
+  const fs::path path = root / name;
   fs::remove_all(path);
   fs::create_directories(path);
   return path;

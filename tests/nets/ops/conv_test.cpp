@@ -1,0 +1,236 @@
+// Convolution kernels against plain CPU references in double: forward and weight gradient on odd shapes
+// (every blocking gives the same result), backward passes against central finite differences on tiny shapes and against
+// the analytic references on shapes large enough to exercise the register-blocked paths with tails.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "nets/ops/conv.h"
+#include "runtime/error.h"
+#include "tests/harness/compare.h"
+#include "tests/harness/gpu_test.h"
+#include "tests/harness/gradcheck.h"
+#include "tests/harness/random.h"
+#include "tests/nets/ops/conv_reference.h"
+
+namespace smokesvd::testing {
+namespace {
+
+constexpr Tolerance kTolerance{1e-4, 1e-4};
+
+struct Case {
+  Shape x;
+  Shape w;
+  ConvSpec spec;
+  bool bias = false;
+};
+
+std::string describe(const Case& c) {
+  return "x " + toString(c.x) + " w " + toString(c.w) + " stride " + std::to_string(c.spec.stride) + " padding " +
+         std::to_string(c.spec.padding) + " output padding " + std::to_string(c.spec.outputPadding) +
+         (c.bias ? " with bias" : "");
+}
+
+ops::ConvParams params(const ConvSpec& spec) { return {spec.stride, spec.padding, spec.outputPadding}; }
+
+// Seeded random operands on the device with their double host copies.
+struct Operand {
+  Tensor tensor;
+  std::vector<double> values;
+};
+
+Operand operand(Context& context, const Shape& shape, uint64_t seed) {
+  std::vector<float> host;
+  Operand o;
+  o.tensor = randomTensor(context, shape, seed, -1, 1, &host);
+  o.values = toDouble(host);
+  return o;
+}
+
+class ConvTest : public GpuTest {
+ protected:
+  // Forward conv (or transposed conv) on the GPU against the reference, for each blocking.
+  void checkForward(const Case& c, bool transposed, std::initializer_list<ops::ConvBlocking> blockings = {{}}) {
+    const Operand x = operand(context(), c.x, 1), w = operand(context(), c.w, 2);
+    const int64_t outChannels = transposed ? c.w[1] : c.w[0];
+    const Operand b = operand(context(), {outChannels}, 3);
+    const std::vector<double> noBias;
+    const std::span<const double> bias = c.bias ? std::span<const double>(b.values) : std::span<const double>(noBias);
+    const Shape yShape = transposed ? referenceConvTransposeOutputShape(c.x, c.w, c.spec)
+                                    : referenceConvOutputShape(c.x, c.w, c.spec);
+    const std::vector<double> expected = transposed ? convTransposeReference(x.values, c.x, w.values, c.w, bias, c.spec)
+                                                    : convReference(x.values, c.x, w.values, c.w, bias, c.spec);
+    for (const ops::ConvBlocking& blocking : blockings) {
+      Tensor y = poisonedTensor(context(), yShape);
+      Stream stream(context());
+      const Tensor* biasTensor = c.bias ? &b.tensor : nullptr;
+      if (transposed)
+        ops::convTransposeForward(stream, x.tensor, w.tensor, biasTensor, params(c.spec), y, blocking);
+      else
+        ops::convForward(stream, x.tensor, w.tensor, biasTensor, params(c.spec), y, blocking);
+      stream.submit();
+      EXPECT_TRUE(allClose(y, expected, kTolerance))
+          << describe(c) << " blocking " << blocking.pixels << "x" << blocking.channelVec4s;
+    }
+  }
+
+  // Backward-input, -weight and -bias of conv (or transposed conv) against finite differences of the
+  // double reference.
+  void checkGradients(const Case& c, bool transposed) {
+    const Operand x = operand(context(), c.x, 4), w = operand(context(), c.w, 5);
+    const Shape yShape = transposed ? referenceConvTransposeOutputShape(c.x, c.w, c.spec)
+                                    : referenceConvOutputShape(c.x, c.w, c.spec);
+    const Operand dy = operand(context(), yShape, 6);
+    const int64_t outChannels = yShape[1];
+    auto reference = [&](std::span<const double> xv, std::span<const double> wv, std::span<const double> bv) {
+      return transposed ? convTransposeReference(xv, c.x, wv, c.w, bv, c.spec)
+                        : convReference(xv, c.x, wv, c.w, bv, c.spec);
+    };
+    const std::vector<double> zeroBias(static_cast<std::size_t>(outChannels), 0.0);
+    const std::vector<double> expectedDx =
+        numericVjp([&](std::span<const double> v) { return reference(v, w.values, {}); }, x.values, dy.values);
+    const std::vector<double> expectedDw =
+        numericVjp([&](std::span<const double> v) { return reference(x.values, v, {}); }, w.values, dy.values);
+    const std::vector<double> expectedDb =
+        numericVjp([&](std::span<const double> v) { return reference(x.values, w.values, v); }, zeroBias, dy.values);
+
+    Tensor dx = poisonedTensor(context(), c.x);
+    Tensor dw = poisonedTensor(context(), c.w);
+    Tensor db = poisonedTensor(context(), {outChannels});
+    Stream stream(context());
+    if (transposed) {
+      ops::convTransposeBackwardInput(stream, dy.tensor, w.tensor, params(c.spec), dx);
+      ops::convTransposeBackwardWeight(stream, x.tensor, dy.tensor, params(c.spec), dw);
+    } else {
+      ops::convBackwardInput(stream, dy.tensor, w.tensor, params(c.spec), dx);
+      ops::convBackwardWeight(stream, x.tensor, dy.tensor, params(c.spec), dw);
+    }
+    ops::convBackwardBias(stream, dy.tensor, db);
+    stream.submit();
+    EXPECT_TRUE(allClose(dx, expectedDx, kTolerance)) << "input gradient, " << describe(c);
+    EXPECT_TRUE(allClose(dw, expectedDw, kTolerance)) << "weight gradient, " << describe(c);
+    EXPECT_TRUE(allClose(db, expectedDb, kTolerance)) << "bias gradient, " << describe(c);
+  }
+
+  // Conv backward passes against the analytic references (the transposed reference for the input
+  // gradient), on shapes too large for finite differences.
+  void checkLargeBackward(const Case& c) {
+    const Operand x = operand(context(), c.x, 7), w = operand(context(), c.w, 8);
+    const Shape yShape = referenceConvOutputShape(c.x, c.w, c.spec);
+    const Operand dy = operand(context(), yShape, 9);
+    ConvSpec back = c.spec;
+    back.outputPadding = static_cast<int>(c.x.back() - referenceConvTransposeOutputShape(yShape, c.w, c.spec).back());
+    const std::vector<double> expectedDx = convTransposeReference(dy.values, yShape, w.values, c.w, {}, back);
+    const std::vector<double> expectedDw = convWeightGradReference(x.values, c.x, dy.values, c.w, c.spec);
+    Tensor dx = poisonedTensor(context(), c.x);
+    Tensor dw = poisonedTensor(context(), c.w);
+    Stream stream(context());
+    ops::convBackwardInput(stream, dy.tensor, w.tensor, params(c.spec), dx);
+    ops::convBackwardWeight(stream, x.tensor, dy.tensor, params(c.spec), dw);
+    stream.submit();
+    EXPECT_TRUE(allClose(dx, expectedDx, kTolerance)) << "input gradient, " << describe(c);
+    EXPECT_TRUE(allClose(dw, expectedDw, {1e-3, 1e-4})) << "weight gradient, " << describe(c);
+  }
+};
+
+TEST_F(ConvTest, Forward2dOddShapes) {
+  for (const Case& c : {Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {1, 0}, true}, Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {1, 1}},
+                        Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {2, 0}}, Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {2, 1}, true},
+                        Case{{2, 3, 7, 9}, {5, 3, 1, 1}, {1, 0}, true}, Case{{2, 3, 7, 9}, {5, 3, 1, 1}, {2, 0}},
+                        Case{{2, 3, 7, 9}, {5, 3, 2, 4}, {2, 1}, true}})
+    checkForward(c, false);
+}
+
+TEST_F(ConvTest, Forward3dOddShapes) {
+  for (const Case& c : {Case{{2, 3, 5, 6, 7}, {5, 3, 3, 3, 3}, {1, 1}, true},
+                        Case{{2, 3, 5, 6, 7}, {5, 3, 3, 3, 3}, {2, 0}},
+                        Case{{2, 3, 5, 6, 7}, {5, 3, 1, 1, 1}, {1, 0}, true},
+                        Case{{2, 3, 5, 6, 7}, {5, 3, 2, 2, 2}, {2, 1}}})
+    checkForward(c, false);
+}
+
+TEST_F(ConvTest, EveryBlockingGivesTheSameForward) {
+  // Includes the CPU defaults (8 and 16 pixels x 1 vec4) and the GPU defaults (4 and 8 x 1).
+  const std::initializer_list<ops::ConvBlocking> blockings{{1, 1}, {3, 3}, {4, 1}, {8, 1}, {8, 4}, {16, 1}};
+  checkForward(Case{{2, 5, 6, 11}, {7, 5, 3, 3}, {1, 1}, true}, false, blockings);
+  checkForward(Case{{1, 3, 5, 4, 9}, {5, 3, 3, 3, 3}, {2, 1}}, false, blockings);
+}
+
+TEST_F(ConvTest, EveryBlockingGivesTheSameWeightGradient) {
+  // Includes the CPU default (4 pixels x 2 vec4s) and the GPU default (8 x 4).
+  for (const Case& c : {Case{{2, 5, 6, 11}, {9, 5, 3, 3}, {1, 1}}, Case{{1, 3, 5, 4, 9}, {10, 3, 3, 3, 3}, {2, 1}}}) {
+    const Operand x = operand(context(), c.x, 10);
+    const Shape yShape = referenceConvOutputShape(c.x, c.w, c.spec);
+    const Operand dy = operand(context(), yShape, 11);
+    const std::vector<double> expected = convWeightGradReference(x.values, c.x, dy.values, c.w, c.spec);
+    for (const ops::ConvBlocking blocking :
+         {ops::ConvBlocking{1, 1}, ops::ConvBlocking{3, 3}, ops::ConvBlocking{4, 2}, ops::ConvBlocking{8, 4},
+          ops::ConvBlocking{16, 1}}) {
+      Tensor dw = poisonedTensor(context(), c.w);
+      Stream stream(context());
+      ops::convBackwardWeight(stream, x.tensor, dy.tensor, params(c.spec), dw, blocking);
+      stream.submit();
+      EXPECT_TRUE(allClose(dw, expected, kTolerance))
+          << describe(c) << " blocking " << blocking.pixels << "x" << blocking.channelVec4s;
+    }
+  }
+}
+
+TEST_F(ConvTest, ForwardLargerShapesWithTails) {
+  checkForward(Case{{1, 14, 21, 37}, {22, 14, 3, 3}, {1, 1}, true}, false);
+  checkForward(Case{{2, 12, 20, 23}, {20, 12, 3, 3}, {2, 1}}, false);
+  checkForward(Case{{1, 8, 9, 10, 19}, {13, 8, 3, 3, 3}, {1, 1}, true}, false);
+}
+
+TEST_F(ConvTest, Backward2dMatchesFiniteDifferences) {
+  for (const Case& c : {Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {1, 1}}, Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {2, 1}},
+                        Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {2, 0}}, Case{{2, 3, 7, 9}, {5, 3, 1, 1}, {1, 0}},
+                        Case{{1, 3, 8, 6}, {2, 3, 4, 4}, {2, 1}}, Case{{1, 2, 8, 7}, {3, 2, 3, 3}, {2, 0}}})
+    checkGradients(c, false);
+}
+
+TEST_F(ConvTest, Backward3dMatchesFiniteDifferences) {
+  for (const Case& c : {Case{{1, 2, 5, 4, 6}, {3, 2, 3, 3, 3}, {1, 1}}, Case{{1, 2, 5, 4, 6}, {3, 2, 3, 3, 3}, {2, 1}},
+                        Case{{2, 2, 4, 3, 5}, {3, 2, 2, 2, 2}, {2, 0}}})
+    checkGradients(c, false);
+}
+
+TEST_F(ConvTest, BackwardLargerShapesWithTails) {
+  checkLargeBackward(Case{{1, 14, 21, 37}, {22, 14, 3, 3}, {1, 1}});
+  checkLargeBackward(Case{{2, 12, 21, 23}, {20, 12, 3, 3}, {2, 1}});
+  checkLargeBackward(Case{{1, 9, 9, 10, 19}, {13, 9, 3, 3, 3}, {1, 1}});
+  checkLargeBackward(Case{{1, 6, 9, 11, 13}, {10, 6, 3, 3, 3}, {2, 1}});
+}
+
+TEST_F(ConvTest, TransposedForwardMatchesScatterReference) {
+  for (const Case& c : {Case{{2, 3, 4, 5}, {3, 5, 3, 3}, {2, 1, 1}, true}, Case{{2, 3, 4, 5}, {3, 5, 2, 2}, {2, 0}},
+                        Case{{2, 3, 4, 5}, {3, 5, 4, 4}, {2, 1}, true}, Case{{1, 3, 5, 6}, {3, 2, 3, 3}, {1, 1}},
+                        Case{{1, 3, 3, 4, 5}, {3, 4, 3, 3, 3}, {2, 1, 1}, true},
+                        Case{{1, 3, 3, 4, 5}, {3, 4, 2, 2, 2}, {2, 0}}, Case{{2, 5, 3, 4}, {5, 3, 1, 1}, {2, 0, 1}, true}})
+    checkForward(c, true);
+}
+
+TEST_F(ConvTest, TransposedBackwardMatchesFiniteDifferences) {
+  for (const Case& c : {Case{{2, 3, 4, 5}, {3, 5, 3, 3}, {2, 1, 1}}, Case{{2, 3, 4, 5}, {3, 5, 2, 2}, {2, 0}},
+                        Case{{1, 2, 3, 3, 4}, {2, 3, 3, 3, 3}, {2, 1, 1}}, Case{{1, 2, 3, 3, 4}, {2, 3, 2, 2, 2}, {2, 0}}})
+    checkGradients(c, true);
+}
+
+TEST_F(ConvTest, RejectsMismatchedShapes) {
+  Tensor x(context(), {1, 3, 8, 8});
+  Tensor w(context(), {4, 2, 3, 3});
+  Tensor y(context(), {1, 4, 6, 6});
+  Stream stream(context());
+  EXPECT_THROW(ops::convForward(stream, x, w, nullptr, {}, y), Error);
+  Tensor w3(context(), {4, 3, 3, 3});
+  Tensor wrongY(context(), {1, 4, 8, 8});
+  EXPECT_THROW(ops::convForward(stream, x, w3, nullptr, {}, wrongY), Error);
+  EXPECT_THROW(ops::convForward(stream, x, w3, nullptr, {0, 0}, y), Error);
+  Tensor bias(context(), {3});
+  EXPECT_THROW(ops::convForward(stream, x, w3, &bias, {}, y), Error);
+  Tensor ty(context(), {1, 3, 16, 16});
+  EXPECT_THROW(ops::convTransposeForward(stream, y, w3, nullptr, {2, 0, 2}, ty), Error);
+}
+
+}  // namespace
+}  // namespace smokesvd::testing

@@ -1,0 +1,167 @@
+#include <gtest/gtest.h>
+
+#include "pipeline/render/atomics.h"
+#include "pipeline/render/lift.h"
+#include "pipeline/render/renderer.h"
+#include "runtime/error.h"
+#include "tests/harness/compare.h"
+#include "tests/harness/gpu_test.h"
+#include "tests/harness/gradcheck.h"
+#include "tests/harness/random.h"
+#include "tests/pipeline/render/adjoint_checks.h"
+#include "tests/pipeline/render/reference.h"
+#include "tests/pipeline/render/scenes.h"
+
+namespace smokesvd::testing {
+namespace {
+
+struct Scene {
+  GridSize grid;
+  int width, height;
+};
+
+class RendererTest : public GpuTest, public ::testing::WithParamInterface<bool> {
+ protected:
+  render::RenderSettings settings() const { return GetParam() ? litSettings() : unlitSettings(); }
+};
+
+TEST_P(RendererTest, ForwardMatchesReference) {
+  for (const Scene& scene : {Scene{{.x = 6, .y = 7, .z = 5}, 6, 7}, Scene{{.x = 7, .y = 11, .z = 9}, 5, 9}}) {
+    const std::vector<Camera> cameras = mixedCameras(scene.grid, scene.width, scene.height);
+    std::vector<float> density;
+    const Tensor volume = randomTensor(context(), scene.grid.volume(), 11, 0.0f,
+                                       1.5f, &density);
+    const render::ViewSet views = render::uploadViews(context(), cameras);
+    Tensor images = poisonedTensor(context(), {views.views, 1, scene.height, scene.width});
+    Stream stream(context());
+    render::render(stream, volume, views, settings(), images);
+    stream.submit();
+    const std::vector<double> expected = reference::render(toDouble(density), scene.grid, cameras, settings());
+    EXPECT_TRUE(allClose(images, expected, {2e-5, 2e-4}));
+  }
+}
+
+TEST_P(RendererTest, BackwardMatchesFiniteDifferences) {
+  expectRenderBackwardMatchesFiniteDifferences(context(), settings());
+}
+
+// One recording with a device look renders, after each upload of another look, exactly what a fresh
+// recording with those settings renders; its backward pass follows the uploaded look too.
+TEST_F(GpuTest, ADeviceLookChangesTheRenderOfOneRecording) {
+  const GridSize grid{.x = 6, .y = 9, .z = 7};
+  const std::vector<Camera> cameras = mixedCameras(grid, 6, 9);
+  const render::ViewSet views = render::uploadViews(context(), cameras);
+  const Tensor volume = randomTensor(context(), {7, 9, 6}, 3, 0.0f, 1.5f);
+  const Tensor gradImages = randomTensor(context(), {views.views, 1, 9, 6}, 4);
+  render::RenderSettings recorded = litSettings();
+  recorded.look = render::lookTensor(context(), recorded);
+  const Tensor images(context(), {views.views, 1, 9, 6}), shadow(context(), {7, 9, 6}), grad(context(), {7, 9, 6});
+  Stream stream(context());
+  render::lightTransmittance(stream, volume, recorded, shadow);
+  render::march(stream, volume, &shadow, views, recorded, images);
+  render::renderBackward(stream, volume, &shadow, views, recorded, images, gradImages, grad);
+
+  render::RenderSettings other = litSettings();
+  other.absorption *= 1.7f;
+  other.ambient = 0.2f;
+  other.light->intensity = 0.4f;
+  other.light->absorption = 0.6f;
+  other.light->direction = {0.8, 0.3, -0.2};
+  for (const render::RenderSettings& look : {other, litSettings()}) {
+    render::uploadLook(recorded.look, look);
+    stream.submit();
+    const Tensor fresh(context(), images.shape()), freshShadow(context(), shadow.shape()), freshGrad(context(), grad.shape());
+    Stream check(context());
+    render::lightTransmittance(check, volume, look, freshShadow);
+    render::march(check, volume, &freshShadow, views, look, fresh);
+    render::renderBackward(check, volume, &freshShadow, views, look, fresh, gradImages, freshGrad);
+    check.submit();
+    EXPECT_TRUE(allClose(images, fresh.download(), {0, 0}));
+    EXPECT_TRUE(allClose(grad, freshGrad.download(), {1e-6, 1e-5}));  // atomics: summation order
+  }
+  EXPECT_EQ(render::lookValues(other)[1], 0.2f);
+  EXPECT_THROW(render::uploadLook(Tensor(context(), {7}), other), Error);
+}
+
+// On CPU devices the scattering adjoints run in a fixed order: the same gradient bit for bit, run after run.
+TEST_F(GpuTest, RenderAndLiftAdjointsAreDeterministicOnCpuDevices) {
+  if (!render::deterministicScatter(context())) GTEST_SKIP() << "this device scatters in any order";
+  const GridSize grid{.x = 7, .y = 11, .z = 9};
+  const render::ViewSet views = render::uploadViews(context(), mixedCameras(grid, 7, 11));
+  const Tensor volume = randomTensor(context(), grid.volume(), 5, 0.0f, 1.5f);
+  const Tensor gradImages = randomTensor(context(), {views.views, 1, 11, 7}, 6);
+  const Tensor gradLifted = randomTensor(context(), {views.views, 9, 11, 7}, 7);
+  std::vector<std::vector<float>> gradients, imageGradients;
+  for (int run = 0; run < 3; ++run) {
+    const render::RenderSettings s = litSettings();
+    const Tensor images(context(), gradImages.shape()), shadow(context(), volume.shape()), grad(context(), volume.shape());
+    const Tensor gradImagesOfLift(context(), gradImages.shape());
+    Stream stream(context());
+    render::lightTransmittance(stream, volume, s, shadow);
+    render::march(stream, volume, &shadow, views, s, images);
+    render::renderBackward(stream, volume, &shadow, views, s, images, gradImages, grad);
+    render::liftBackward(stream, gradLifted, views, grid, gradImagesOfLift);
+    stream.submit();
+    gradients.push_back(grad.download());
+    imageGradients.push_back(gradImagesOfLift.download());
+  }
+  EXPECT_EQ(gradients[0], gradients[1]);
+  EXPECT_EQ(gradients[0], gradients[2]);
+  EXPECT_EQ(imageGradients[0], imageGradients[1]);
+  EXPECT_EQ(imageGradients[0], imageGradients[2]);
+}
+
+INSTANTIATE_TEST_SUITE_P(LightOffOn, RendererTest, ::testing::Bool(),
+                         [](const auto& param) { return param.param ? "Lit" : "Unlit"; });
+
+TEST_F(GpuTest, ShadowPassMatchesReference) {
+  const GridSize grid{.x = 9, .y = 5, .z = 7};
+  const render::RenderSettings s = litSettings();
+  std::vector<float> density;
+  const Tensor volume = randomTensor(context(), grid.volume(), 31, 0.0f, 1.0f, &density);
+  Tensor shadow = poisonedTensor(context(), volume.shape());
+  Stream stream(context());
+  render::lightTransmittance(stream, volume, s, shadow);
+  stream.submit();
+  EXPECT_TRUE(allClose(shadow, reference::lightTransmittance(toDouble(density), grid, *s.light), {1e-5, 1e-4}));
+}
+
+TEST_F(GpuTest, FrontViewColumnsAreVoxelColumns) {
+  // One lit voxel column along z at (x = 2, y = 3): the front view shows it at column 2, row H - 1 - 3.
+  const GridSize grid{.x = 5, .y = 6, .z = 4};
+  std::vector<float> density(static_cast<std::size_t>(4 * 6 * 5), 0.0f);
+  for (int z = 0; z < 4; ++z) density[static_cast<std::size_t>((z * 6 + 3) * 5 + 2)] = 1.0f;
+  const Tensor volume = Tensor::fromHost(context(), {4, 6, 5}, density);
+  const std::vector<Camera> cameras = orbitCameras({0.0}, grid, 5, 6);
+  const render::ViewSet views = render::uploadViews(context(), cameras);
+  Tensor images = poisonedTensor(context(), {1, 1, 6, 5});
+  Stream stream(context());
+  render::render(stream, volume, views, unlitSettings(), images);
+  stream.submit();
+  const std::vector<float> image = images.download();
+  for (int r = 0; r < 6; ++r)
+    for (int c = 0; c < 5; ++c) {
+      const float value = image[static_cast<std::size_t>(r * 5 + c)];
+      if (r == 2 && c == 2) EXPECT_GT(value, 0.5f);
+      else EXPECT_LT(value, 0.5f * image[2 * 5 + 2]) << "row " << r << " column " << c;
+    }
+}
+
+TEST_F(GpuTest, RendererRejectsBadShapesAndSettings) {
+  const GridSize grid{.x = 5, .y = 4, .z = 3};
+  const Tensor volume(context(), {3, 4, 5});
+  const render::ViewSet views = render::uploadViews(context(), orbitCameras({0.0, 90.0}, grid, 5, 4));
+  Stream stream(context());
+  EXPECT_THROW(render::render(stream, volume, views, unlitSettings(), Tensor(context(), {1, 1, 4, 5})), Error);
+  EXPECT_THROW(render::render(stream, Tensor(context(), {2, 3, 4, 5}), views, unlitSettings(),
+                              Tensor(context(), {2, 1, 4, 5})),
+               Error);
+  render::RenderSettings bad = unlitSettings();
+  bad.step = 0;
+  EXPECT_THROW(render::render(stream, volume, views, bad, Tensor(context(), {2, 1, 4, 5})), Error);
+  const std::vector<Camera> mixed = {orbitCamera(0, grid, 5, 4), orbitCamera(0, grid, 4, 4)};
+  EXPECT_THROW(render::uploadViews(context(), mixed), Error);
+}
+
+}  // namespace
+}  // namespace smokesvd::testing
