@@ -9,7 +9,7 @@
 namespace smokesvd::networks {
 
 DensityGenerator::DensityGenerator(Context& context, const models::UNet3PlusConfig& config, const Preset& preset)
-    : grid_(presetGrid(preset)) {
+    : preset_(preset), grid_(presetGrid(preset)) {
   if (config.dims != 3 || config.inChannels != kSlots || config.outChannels != 1 || config.presenceSlots != kSlots)
     throw Error("G_rho: the architecture must be 3D with 16 input channels, 1 output and 16 presence slots");
   net_ = std::make_shared<models::UNet3Plus>(context, config);

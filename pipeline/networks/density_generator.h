@@ -29,8 +29,10 @@ class DensityGenerator {
   models::UNet3Plus& net() { return *net_; }
   const render::ViewSet& views() const { return views_; }
   const GridSize& grid() const { return grid_; }
+  const Preset& preset() const { return preset_; }
 
  private:
+  Preset preset_;
   std::shared_ptr<models::UNet3Plus> net_;
   render::ViewSet views_;
   GridSize grid_;

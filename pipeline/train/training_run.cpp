@@ -15,7 +15,7 @@
 #include "nets/optim/grad_clip.h"
 #include "pipeline/train/loss_log.h"
 #include "pipeline/train/loss_plot.h"
-#include "pipeline/train/progress.h"
+#include "pipeline/progress.h"
 #include "runtime/error.h"
 
 namespace smokesvd::train {

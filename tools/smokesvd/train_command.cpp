@@ -11,7 +11,7 @@
 #include "pipeline/preset.h"
 #include "pipeline/train/make_trainer.h"
 #include "pipeline/networks/network_config.h"
-#include "pipeline/train/progress.h"
+#include "pipeline/progress.h"
 #include "pipeline/train/training_run.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
@@ -59,7 +59,7 @@ void train(const GlobalOptions& global, const TrainArguments& args) {
   if (result.complete && result.stepsThisCall == 0)
     std::cerr << args.out << ": already complete (" << result.steps << " steps)\n";
   else
-    std::cerr << args.out << ": " << result.steps << " steps in " << train::formatDuration(result.seconds)
+    std::cerr << args.out << ": " << result.steps << " steps in " << formatDuration(result.seconds)
               << (result.complete ? ", model.safetensors written" : "") << "\n";
 }
 

@@ -1,10 +1,10 @@
-#include "pipeline/train/progress.h"
+#include "pipeline/progress.h"
 
 #include <cstdio>
 
 #include <unistd.h>
 
-namespace smokesvd::train {
+namespace smokesvd {
 
 std::string formatDuration(double seconds) {
   const auto total = static_cast<int64_t>(seconds + 0.5);
@@ -43,4 +43,4 @@ void Progress::finish() {
   open_ = false;
 }
 
-}  // namespace smokesvd::train
+}  // namespace smokesvd

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-namespace smokesvd::train {
+namespace smokesvd {
 
 class Progress {
  public:
@@ -25,4 +25,4 @@ class Progress {
 
 std::string formatDuration(double seconds);  // "1:02:03" or "2:03"
 
-}  // namespace smokesvd::train
+}  // namespace smokesvd

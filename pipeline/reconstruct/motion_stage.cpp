@@ -1,0 +1,93 @@
+#include "pipeline/reconstruct/motion_stage.h"
+
+#include <cmath>
+
+#include "nets/functional/activation.h"
+#include "nets/functional/elementwise.h"
+#include "nets/functional/losses.h"
+#include "nets/optim/adam.h"
+#include "nets/optim/grad_clip.h"
+#include "pipeline/differentiable/physics.h"
+#include "pipeline/differentiable/render.h"
+#include "pipeline/networks/view_slots.h"
+#include "runtime/error.h"
+#include "runtime/stream.h"
+
+namespace smokesvd::reconstruct {
+namespace {
+
+// 1 where an inflow may be: below the height and off the outer cell layer.
+std::vector<float> inflowMask(const GridSize& g, double heightFraction) {
+  std::vector<float> mask(static_cast<std::size_t>(g.cells()), 0.0f);
+  const auto top = static_cast<int64_t>(std::ceil(heightFraction * static_cast<double>(g.y)));
+  for (int64_t z = 1; z + 1 < g.z; ++z)
+    for (int64_t y = 1; y + 1 < g.y && y < top; ++y)
+      for (int64_t x = 1; x + 1 < g.x; ++x) mask[static_cast<std::size_t>((z * g.y + y) * g.x + x)] = 1.0f;
+  return mask;
+}
+
+}  // namespace
+
+MotionResult advanceDensity(Context& context, MethodModels& models, const FrameState& state, int frame,
+                            const physics::FlagGrid& grid, const Tensor& target, const Tensor& front,
+                            const render::RenderSettings& look, const physics::AdvectionParams& advection,
+                            const MotionOptions& options) {
+  MotionResult result;
+  const Preset& preset = models.coarse->preset();
+  if (frame == 0) {
+    result.density = target;
+    result.inflow = target;
+    return result;
+  }
+  if (options.inflowIterations < 0) throw Error("--inflow-iterations must be >= 0");
+  Tensor advected;
+  {
+    Stream stream(context);
+    Tape tape(stream);
+    NoGrad noGrad(tape);
+    const Var u = models.velocity->forward(tape, variable(state.density), variable(target)).velocity;
+    const Var mac = diff::centredToMac(tape, u);
+    advected = diff::advect(tape, grid, variable(state.density), mac, nullptr, advection)->value;
+    result.velocity = mac->value;
+    stream.submit();
+  }
+
+  const Tensor mask = Tensor::fromHost(context, preset.grid.volume(), inflowMask(preset.grid, options.inflowHeight));
+  const Var inflow = variable(Tensor(context, preset.grid.volume()), true, "inflow");
+  {
+    Stream copy(context);
+    copy.copy(state.inflow, inflow->value);
+    copy.submit();
+  }
+  if (options.inflowIterations > 0) {
+    const NamedParameters parameters{{"inflow", inflow}};
+    optim::Adam adam(context, parameters,
+                     optim::AdamOptions::adamW(optim::LrSchedule::cosine(options.inflowLr, options.inflowIterations,
+                                                                         options.inflowLr * 0.1),
+                                               0.0));
+    optim::GradClip clip(context, 1.0);
+    Stream stream(context);
+    Tape tape(stream);
+    const render::ViewSet frontView = render::uploadViews(context, std::vector<Camera>{networks::orbitCameraAt(preset, 0)});
+    const Var masked = fn::mul(tape, inflow, variable(mask));
+    const Var estimate = fn::add(tape, variable(advected), masked);
+    const Var loss = fn::add(
+        tape, fn::add(tape, fn::mseLoss(tape, estimate, variable(target)),
+                      fn::scale(tape, fn::mseLoss(tape, diff::render(tape, estimate, frontView, look), variable(front.reshaped({1, 1, preset.imageHeight, preset.imageWidth}))),
+                                static_cast<float>(options.imageWeight))),
+        fn::scale(tape, fn::mseLoss(tape, masked, variable(state.inflow)), static_cast<float>(options.smoothWeight)));
+    tape.backward(loss);
+    clip.record(stream, parameters);
+    adam.step(stream, &clip);
+    for (int i = 0; i < options.inflowIterations; ++i) stream.submit();
+  }
+  Stream stream(context);
+  Tape tape(stream);
+  NoGrad noGrad(tape);
+  result.inflow = fn::relu(tape, fn::mul(tape, inflow, variable(mask)))->value;
+  result.density = diff::advect(tape, grid, variable(state.density), variable(result.velocity), variable(result.inflow), advection)->value;
+  stream.submit();
+  return result;
+}
+
+}  // namespace smokesvd::reconstruct

@@ -1,0 +1,214 @@
+#include "pipeline/reconstruct/reconstruction.h"
+
+#include <chrono>
+#include <fstream>
+
+#include "nets/io/file_io.h"
+#include "nets/io/npy.h"
+#include "pipeline/media/image.h"
+#include "pipeline/networks/view_slots.h"
+#include "pipeline/progress.h"
+#include "pipeline/reconstruct/run_outputs.h"
+#include "pipeline/sim/domain.h"
+#include "pipeline/sim/outputs.h"
+#include "pipeline/sim/scene.h"
+#include "runtime/error.h"
+#include "runtime/stream.h"
+
+namespace smokesvd::reconstruct {
+namespace fs = std::filesystem;
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+nlohmann::json readJson(const fs::path& path) {
+  std::ifstream file(path);
+  try {
+    return nlohmann::json::parse(file);
+  } catch (const nlohmann::json::exception& error) {
+    throw Error(path.string() + ": not valid JSON (" + error.what() + "); delete it or use --overwrite");
+  }
+}
+
+void writeJson(const fs::path& path, const nlohmann::json& json) {
+  io::writeAtomically(path, [&](const fs::path& temporary) {
+    std::ofstream file(temporary);
+    file << json.dump(2) << "\n";
+    if (!file) throw Error(temporary.string() + ": cannot write");
+  });
+}
+
+// What must agree for a run to be resumed: the input, its frames and mapping, the models, every option.
+nlohmann::json signature(const ReconstructOptions& o, const MethodModels& models, const FrontViews& views) {
+  const InputOptions& in = o.input;
+  return {{"input", fs::absolute(in.input).string()},
+          {"frames", {in.first, in.count}},
+          {"framing", in.framing == Framing::Box ? "box" : in.framing == Framing::Auto ? "auto" : "calibrated"},
+          {"calibration", in.calibration.string()},
+          {"camera", in.camera},
+          {"intensity", in.intensity},
+          {"background", in.background == Background::First ? "first" : "level"},
+          {"target", in.target},
+          {"threshold", in.threshold},
+          {"preset", o.preset},
+          {"models", models.hashes},
+          {"side_view",
+           {{"synthesize", o.sideView.synthesize}, {"steps", o.sideView.steps}, {"init_steps", o.sideView.initSteps},
+            {"eta", o.sideView.eta}, {"seed", o.sideView.seed}}},
+          {"density", {{"refine", o.density.refine}, {"progressive", o.density.progressive}}},
+          {"motion",
+           {{"inflow_iterations", o.motion.inflowIterations}, {"inflow_lr", o.motion.inflowLr},
+            {"inflow_height", o.motion.inflowHeight}, {"image_weight", o.motion.imageWeight},
+            {"smooth_weight", o.motion.smoothWeight}}},
+          {"source", views.describe()}};
+}
+
+}  // namespace
+
+ReconstructResult runReconstruction(Context& context, const ReconstructOptions& o) {
+  const Preset& preset = smokesvd::preset(o.preset);
+  if (o.resume && o.overwrite) throw Error("reconstruct: --resume and --overwrite contradict each other");
+  const FrontViews views = readFrontViews(o.input, preset);
+  const int frames = static_cast<int>(views.frames.size());
+  const fs::path modelsFolder = o.models.empty() ? defaultModelsFolder(o.preset) : o.models;
+  MethodModels models(context, modelsFolder, preset);
+  const nlohmann::json runSignature = signature(o, models, views);
+
+  RunFolder folder(o.out);
+  const fs::path runPath = o.out / "run.json", checkpointPath = o.out / "checkpoint.npz";
+  FrameState state(context, preset);
+  ReconstructResult result;
+  result.frames = frames;
+  double secondsBefore = 0;
+  if (fs::exists(runPath)) {
+    const nlohmann::json previous = readJson(runPath);
+    if (previous.value("command", "") != "smokesvd reconstruct")
+      throw Error(runPath.string() + ": not a reconstruction's run.json; choose another --out");
+    if (o.overwrite) {
+      folder.clear();
+    } else {
+      if (!o.resume) throw Error(o.out.string() + ": holds a reconstruction; --resume continues it, --overwrite replaces it");
+      if (previous.value("signature", nlohmann::json{}) != runSignature)
+        throw Error(o.out.string() + ": holds a reconstruction of another input, models or options; --overwrite replaces it");
+      if (previous.value("complete", false)) {
+        result.complete = true;
+        result.seconds = previous.value("seconds_total", 0.0);
+        return result;
+      }
+      if (fs::exists(checkpointPath)) {
+        std::map<std::string, io::NpyArray> arrays;
+        try {
+          arrays = io::readNpz(checkpointPath);
+        } catch (const Error& e) {
+          throw Error(std::string(e.what()) + " (the checkpoint is damaged: delete " + checkpointPath.string() +
+                      " to restart the run, or use --overwrite)");
+        }
+        state.fromArrays(arrays, checkpointPath.string());
+        secondsBefore = previous.value("seconds_total", 0.0);
+        for (const auto& [stage, seconds] : previous.value("stage_seconds", nlohmann::json::object()).items())
+          result.stageSeconds[stage] = seconds.get<double>();
+      }
+    }
+  } else {
+    folder.requireEmptyOrAbsent();
+  }
+  folder.prepare();
+  folder.removeTemporaries();
+
+  sim::Scene box;
+  box.resolution = preset.grid;
+  box.frames = frames;
+  box.render.width = preset.imageWidth;
+  box.render.height = preset.imageHeight;
+  box.render.absorption = preset.absorption;
+  box.render.ambient = 1;
+  sim::writeScene(o.out / "scene.json", box);
+  const Tensor flagsTensor = Tensor::fromHost(context, preset.grid.volume(), sim::sceneFlags(box, 0));
+  folder.writeFlags(sim::sceneFlags(box, 0), preset.grid);
+  render::RenderSettings look;
+  look.absorption = preset.absorption;
+  physics::AdvectionParams advection;
+
+  nlohmann::json run{{"command", "smokesvd reconstruct"},
+                     {"signature", runSignature},
+                     {"preset", o.preset},
+                     {"models_folder", fs::absolute(modelsFolder).string()},
+                     {"device", context.info().name},
+                     {"frames", frames},
+                     {"box",
+                      {{"grid", {preset.grid.x, preset.grid.y, preset.grid.z}},
+                       {"units", "densities in the preset's reference absorption: render with absorption " +
+                                     std::to_string(preset.absorption) + ", ambient 1, no light"},
+                       {"absorption", preset.absorption}}}};
+  auto saveRun = [&](bool complete, double seconds) {
+    run["complete"] = complete;
+    run["frames_done"] = state.framesDone;
+    run["seconds_total"] = seconds;
+    run["seconds_per_frame"] = state.framesDone > 0 ? seconds / state.framesDone : 0.0;
+    run["stage_seconds"] = result.stageSeconds;
+    writeJson(runPath, run);
+  };
+  if (state.framesDone == 0) saveRun(false, 0);
+
+  const auto began = Clock::now();
+  Progress progress(frames, state.framesDone, 1, o.quiet);
+  auto frontTensor = [&](int t) {
+    return Tensor::fromHost(context, {1, 1, preset.imageHeight, preset.imageWidth}, views.frames[static_cast<std::size_t>(t)]);
+  };
+  const physics::FlagGrid grid = [&] {
+    Stream stream(context);
+    physics::FlagGrid g(stream, flagsTensor);
+    stream.submit();
+    return g;
+  }();
+  for (int t = state.framesDone; t < frames; ++t) {
+    if (o.stopAfter >= 0 && result.framesThisCall >= o.stopAfter) break;
+    const Tensor front = frontTensor(t);
+    const Tensor nextFront = frontTensor(std::min(t + 1, frames - 1));
+    auto timed = [&](const char* stage, auto&& work) {
+      const auto start = Clock::now();
+      auto value = work();
+      result.stageSeconds[stage] += since(start);
+      return value;
+    };
+    const Tensor side = timed("side_view", [&] { return sideView(context, models, state, t, front, nextFront, o.sideView); });
+    const DensityResult density = timed("density", [&] {
+      return reconstructDensity(context, models, state, t, front, side, look, o.density);
+    });
+    const MotionResult motion = timed("motion", [&] {
+      return advanceDensity(context, models, state, t, grid, density.density, front, look, advection, o.motion);
+    });
+    timed("write", [&] {
+      folder.writeFrame(t, motion.density, motion.inflow, density.views, side, front);
+      if (motion.velocity.defined()) folder.writeVelocity(t - 1, motion.velocity);
+      if (t == frames - 1) folder.writeVelocity(t, motion.velocity.defined() ? motion.velocity : Tensor());
+      Stream stream(context);
+      state.advance(stream, side, density.sideRender, density.views, motion.density, motion.inflow);
+      stream.submit();
+      state.framesDone = t + 1;
+      io::writeNpz(checkpointPath, state.toArrays());
+      saveRun(false, secondsBefore + since(began));
+      return 0;
+    });
+    ++result.framesThisCall;
+    progress.update(t + 1, "frame " + std::to_string(t));
+  }
+  progress.finish();
+  result.seconds = secondsBefore + since(began);
+  if (state.framesDone < frames) return result;
+
+  if (o.videos) {
+    const auto start = Clock::now();
+    run["videos"] = folder.writeSummaries(context, frames, views.frameRate, look, preset);
+    result.stageSeconds["summaries"] += since(start);
+  }
+  fs::remove(checkpointPath);
+  result.complete = true;
+  result.seconds = secondsBefore + since(began);
+  saveRun(true, result.seconds);
+  return result;
+}
+
+}  // namespace smokesvd::reconstruct

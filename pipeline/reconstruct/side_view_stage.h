@@ -1,0 +1,29 @@
+// Stage 1, the side view of frame t (paper Sec. 3.2): DDIM sampling of SvDiff conditioned on the front
+// view and the two previous frames' synthesised side views and side renders; frames 0 and 1 come
+// together from SvDiff-init, conditioned on their two front views (a one-frame clip uses its only frame
+// twice). The sample is mapped back to [0, 1] and clamped. `synthesize = false` (the ablation and
+// baseline) takes the front view mirrored left to right as the side view instead.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "pipeline/reconstruct/frame_state.h"
+#include "pipeline/reconstruct/method_models.h"
+
+namespace smokesvd::reconstruct {
+
+struct SideViewOptions {
+  bool synthesize = true;
+  int steps = 20;       // DDIM steps for frames t >= 2
+  int initSteps = 50;   // DDIM steps for frames 0 and 1
+  double eta = 1.0;
+  uint64_t seed = 0;    // frame t samples with seed + t
+};
+
+// The side view [1, 1, h, w] of `frame`; `front` and `nextFront` are that frame's and the next one's front
+// views (device [1, 1, h, w]; nextFront is read at frame 0 only).
+Tensor sideView(Context& context, MethodModels& models, FrameState& state, int frame, const Tensor& front,
+                const Tensor& nextFront, const SideViewOptions& options);
+
+}  // namespace smokesvd::reconstruct

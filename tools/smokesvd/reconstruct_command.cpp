@@ -1,0 +1,130 @@
+// `smokesvd reconstruct INPUT --out DIR`: one video of smoke in; per frame its density, velocity and
+// inflow, 16 views and the side view out (docs/reconstruction.md):
+//
+//   smokesvd reconstruct plume.mp4 --out recon/                     shipped small-preset weights
+//   smokesvd reconstruct frames/ --out recon/ --framing box --intensity none --frames 0:60
+//   smokesvd reconstruct train02.mp4 --camera info.json --out recon/  calibrated real footage
+//   smokesvd reconstruct plume.mp4 --out recon/ --resume             continue an interrupted run
+#include <iostream>
+
+#include "pipeline/progress.h"
+#include "pipeline/reconstruct/reconstruction.h"
+#include "runtime/error.h"
+#include "tools/smokesvd/command.h"
+
+namespace smokesvd::cli {
+namespace {
+
+struct ReconstructArguments {
+  std::string input, out, models, frames, camera, framing, intensity = "auto", background = "level", sideView = "synthesize";
+  std::string preset = "small";
+  float threshold = 0.02f, target = 0.9f;
+  uint64_t seed = 0;
+  int ddimSteps = 20, initSteps = 50, inflowIterations = 40;
+  double eta = 1.0, inflowLr = 0.05, inflowHeight = 0.25;
+  bool noRefine = false, noProgressive = false, noVideos = false, resume = false, overwrite = false;
+};
+
+void parseFrames(const std::string& text, reconstruct::InputOptions& in) {
+  if (text.empty()) return;
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) throw Error("--frames: expected A:B (first frame, one past the last) or A:, got '" + text + "'");
+  try {
+    std::size_t used = 0;
+    in.first = std::stoi(text.substr(0, colon), &used);
+    if (used != colon) throw std::invalid_argument("first");
+    const std::string end = text.substr(colon + 1);
+    if (!end.empty()) {
+      const int last = std::stoi(end, &used);
+      if (used != end.size()) throw std::invalid_argument("last");
+      if (last <= in.first) throw Error("--frames: B must be greater than A in A:B, got '" + text + "'");
+      in.count = last - in.first;
+    }
+  } catch (const std::logic_error&) {
+    throw Error("--frames: expected A:B with whole numbers, got '" + text + "'");
+  }
+  if (in.first < 0) throw Error("--frames: the first frame must be >= 0");
+}
+
+void runReconstruct(const GlobalOptions& global, const ReconstructArguments& a) {
+  reconstruct::ReconstructOptions o;
+  o.input.input = a.input;
+  parseFrames(a.frames, o.input);
+  o.input.intensity = a.intensity;
+  o.input.threshold = a.threshold;
+  o.input.target = a.target;
+  if (a.background != "level" && a.background != "first") throw Error("--background: expected level or first");
+  o.input.background = a.background == "first" ? reconstruct::Background::First : reconstruct::Background::Level;
+  if (!a.camera.empty()) {
+    const auto colon = a.camera.rfind(':');
+    o.input.calibration = colon == std::string::npos ? a.camera : a.camera.substr(0, colon);
+    if (colon != std::string::npos) o.input.camera = a.camera.substr(colon + 1);
+    if (!a.framing.empty() && a.framing != "calibrated")
+      throw Error("--camera crops the calibrated box; it cannot be combined with --framing " + a.framing);
+    o.input.framing = reconstruct::Framing::Calibrated;
+  } else if (!a.framing.empty()) {
+    o.input.framing = reconstruct::parseFraming(a.framing);
+    if (o.input.framing == reconstruct::Framing::Calibrated) throw Error("--framing calibrated needs --camera info.json[:VIDEO]");
+  }
+  o.out = a.out;
+  o.models = a.models;
+  o.preset = a.preset;
+  o.resume = a.resume;
+  o.overwrite = a.overwrite;
+  o.videos = !a.noVideos;
+  if (a.sideView != "synthesize" && a.sideView != "mirror") throw Error("--side-view: expected synthesize or mirror");
+  o.sideView.synthesize = a.sideView == "synthesize";
+  o.sideView.steps = a.ddimSteps;
+  o.sideView.initSteps = a.initSteps;
+  o.sideView.eta = a.eta;
+  o.sideView.seed = a.seed;
+  o.density.refine = !a.noRefine;
+  o.density.progressive = !a.noProgressive;
+  o.motion.inflowIterations = a.inflowIterations;
+  o.motion.inflowLr = a.inflowLr;
+  o.motion.inflowHeight = a.inflowHeight;
+  Context context(global.contextOptions());
+  const reconstruct::ReconstructResult r = reconstruct::runReconstruction(context, o);
+  if (r.complete && r.framesThisCall == 0)
+    std::cerr << a.out << ": already complete\n";
+  else
+    std::cerr << a.out << ": " << r.framesThisCall << " frames in " << formatDuration(r.seconds)
+              << (r.complete ? " (complete)" : "") << "\n";
+}
+
+void addReconstructCommand(CLI::App& app, const GlobalOptions& global, Action& action) {
+  static ReconstructArguments a;
+  CLI::App* c = app.add_subcommand("reconstruct", "reconstruct density, velocity and inflow from one video of smoke");
+  c->add_option("input", a.input, "a video, a folder of PNG frames, or an .npy/.npz image stack [T, H, W]")->required();
+  c->add_option("--out", a.out, "output folder")->required();
+  c->add_option("--models", a.models, "folder of trained networks (default: the shipped models/<preset>)");
+  c->add_option("--preset", a.preset, "small (default) or paper: sizes of the reconstruction and its networks");
+  c->add_option("--frames", a.frames, "A:B, frames A to B-1 of the input (A: to the end)");
+  c->add_option("--camera", a.camera, "info.json[:VIDEO]: calibrated footage; crops the calibrated box's projection");
+  c->add_option("--framing", a.framing, "box (the whole frame is the box's front view) or auto (find the smoke; default)");
+  c->add_option("--intensity", a.intensity, "auto (default), none, or a gain: how input values map to the networks' units");
+  c->add_option("--background", a.background, "level (default: one black level) or first (frame 0 per pixel)");
+  c->add_option("--threshold", a.threshold, "noise floor after normalisation (default 0.02)");
+  c->add_option("--target", a.target, "the level the footage's 99.9th percentile maps to (default 0.9)");
+  c->add_option("--seed", a.seed, "seed of the side-view sampling");
+  c->add_option("--side-view", a.sideView, "synthesize (SvDiff, default) or mirror (the mirrored front view; a baseline)");
+  c->add_option("--ddim-steps", a.ddimSteps, "DDIM steps per side view (default 20)")->check(CLI::PositiveNumber);
+  c->add_option("--init-steps", a.initSteps, "DDIM steps for frames 0 and 1 (default 50)")->check(CLI::PositiveNumber);
+  c->add_option("--eta", a.eta, "DDIM eta: 0 deterministic, 1 ancestral (default 1)")->check(CLI::NonNegativeNumber);
+  c->add_flag("--no-refine", a.noRefine, "skip the novel-view refinement (the coarse density; an ablation)");
+  c->add_flag("--no-progressive", a.noProgressive, "refine every novel view in one pass (an ablation)");
+  c->add_option("--inflow-iterations", a.inflowIterations, "AdamW iterations of the inflow per frame (default 40)")
+      ->check(CLI::NonNegativeNumber);
+  c->add_option("--inflow-lr", a.inflowLr, "learning rate of the inflow optimisation (default 0.05)")->check(CLI::PositiveNumber);
+  c->add_option("--inflow-height", a.inflowHeight, "the inflow is zero above this fraction of the box (default 0.25)")
+      ->check(CLI::Range(0.0, 1.0));
+  c->add_flag("--no-videos", a.noVideos, "skip input/side/orbit mp4 and the contact sheet");
+  c->add_flag("--resume", a.resume, "continue the run in --out at its first unfinished frame");
+  c->add_flag("--overwrite", a.overwrite, "replace the reconstruction in --out");
+  c->callback([&global, &action] { action = [&global] { runReconstruct(global, a); }; });
+}
+
+const bool registered = registerCommand({"reconstruct", addReconstructCommand});
+
+}  // namespace
+}  // namespace smokesvd::cli
