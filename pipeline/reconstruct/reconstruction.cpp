@@ -107,8 +107,8 @@ ReconstructResult runReconstruction(Context& context, const ReconstructOptions& 
         }
         state.fromArrays(arrays, checkpointPath.string());
         secondsBefore = previous.value("seconds_total", 0.0);
-        for (const auto& [stage, seconds] : previous.value("stage_seconds", nlohmann::json::object()).items())
-          result.stageSeconds[stage] = seconds.get<double>();
+        const nlohmann::json stages = previous.value("stage_seconds", nlohmann::json::object());
+        for (const auto& [stage, seconds] : stages.items()) result.stageSeconds[stage] = seconds.get<double>();
       }
     }
   } else {
@@ -163,11 +163,13 @@ ReconstructResult runReconstruction(Context& context, const ReconstructOptions& 
     stream.submit();
     return g;
   }();
+  std::vector<std::string> stageOrder;
   for (int t = state.framesDone; t < frames; ++t) {
     if (o.stopAfter >= 0 && result.framesThisCall >= o.stopAfter) break;
     const Tensor front = frontTensor(t);
     const Tensor nextFront = frontTensor(std::min(t + 1, frames - 1));
     auto timed = [&](const char* stage, auto&& work) {
+      if (result.framesThisCall == 0) stageOrder.push_back(stage);
       const auto start = Clock::now();
       auto value = work();
       result.stageSeconds[stage] += since(start);
@@ -192,6 +194,10 @@ ReconstructResult runReconstruction(Context& context, const ReconstructOptions& 
       saveRun(false, secondsBefore + since(began));
       return 0;
     });
+    if (result.framesThisCall == 0) {
+      run["stage_order"] = stageOrder;
+      saveRun(false, secondsBefore + since(began));
+    }
     ++result.framesThisCall;
     progress.update(t + 1, "frame " + std::to_string(t));
   }

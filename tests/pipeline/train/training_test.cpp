@@ -8,41 +8,20 @@
 #include "nets/io/safetensors.h"
 #include "pipeline/dataset/scene_dataset.h"
 #include "pipeline/networks/network_config.h"
-#include "pipeline/sim/random_scene.h"
-#include "pipeline/sim/run.h"
 #include "pipeline/train/make_trainer.h"
 #include "pipeline/train/training_run.h"
 #include "runtime/error.h"
 #include "tests/harness/gpu_test.h"
-#include "tests/harness/temp_dir.h"
+#include "tests/pipeline/tiny_models.h"
 
 namespace smokesvd::testing {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh folder `name` inside this program's TempDir (removed when the program ends).
-fs::path scratch(const std::string& name) {
-  static const TempDir root("training");
-  const fs::path path = root / name;
-  fs::remove_all(path);
-  fs::create_directories(path);
-  return path;
-}
+fs::path scratch(const std::string& name) { return tinyScratch("training_" + name); }
 
-// Four tiny scenes of 8 frames (one held out: validation_every 4 in the configs below).
-const fs::path& tinyData() {
-  static const fs::path root = [] {
-    const fs::path path = scratch("data");
-    for (int i = 0; i < 4; ++i) {
-      sim::Scene scene = sim::randomScene(100 + static_cast<uint64_t>(i), preset("tiny").grid, 8);
-      scene.render.enabled = false;
-      sim::runScene(testContext(), scene, path / ("scene_000" + std::to_string(i)), {});
-    }
-    return path;
-  }();
-  return root;
-}
+const fs::path& tinyData() { return tinyDataset(); }
 
 networks::NetworkConfig tinyConfig(networks::Network network, int64_t steps) {
   networks::NetworkConfig c = networks::defaultNetworkConfig("tiny", network);
@@ -86,26 +65,10 @@ void expectSameWeights(const fs::path& a, const fs::path& b) {
 
 class TrainingTest : public GpuTest {};
 
-// The models every other trainer depends on, trained once for the whole suite.
-const fs::path& tinyModels() {
-  static const fs::path models = [] {
-    const fs::path path = scratch("models");
-    for (const auto n : {networks::Network::GrhoCoarse, networks::Network::GrhoFine, networks::Network::Gu})
-      trainTiny(n, path / networks::networkName(n), 6);
-    return path;
-  }();
-  return models;
-}
-
 TEST_F(TrainingTest, EveryNetworkTrainsAndWritesItsFiles) {
   const fs::path& models = tinyModels();
   for (const auto n : networks::allNetworks()) {
     const fs::path out = models / networks::networkName(n);
-    if (!fs::exists(out / "model.safetensors")) {
-      const train::TrainingResult r = trainTiny(n, out, 6, -1, false, models);
-      EXPECT_TRUE(r.complete) << networks::networkName(n);
-      EXPECT_FALSE(r.validation.empty()) << networks::networkName(n);
-    }
     for (const char* file : {"model.safetensors", "config.json", "model_card.md", "loss.csv", "loss.png", "validation.csv"})
       EXPECT_TRUE(fs::exists(out / file)) << networks::networkName(n) << ": " << file;
     EXPECT_FALSE(fs::exists(out / "checkpoint.safetensors")) << networks::networkName(n);

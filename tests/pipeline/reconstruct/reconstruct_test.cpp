@@ -1,0 +1,215 @@
+// `smokesvd reconstruct` end to end on the tiny preset with networks trained for a few steps
+// (tests/pipeline/tiny_models.h): the files of a run, the physical relation of its fields, resume
+// equivalence, the stage order, and bad inputs.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "nets/io/file_io.h"
+#include "nets/io/npy.h"
+#include "pipeline/media/image.h"
+#include "pipeline/networks/view_slots.h"
+#include "pipeline/physics/advection.h"
+#include "pipeline/reconstruct/reconstruction.h"
+#include "pipeline/render/render_images.h"
+#include "pipeline/sim/outputs.h"
+#include "pipeline/sim/random_scene.h"
+#include "pipeline/sim/run.h"
+#include "runtime/error.h"
+#include "tests/harness/gpu_test.h"
+#include "tests/pipeline/tiny_models.h"
+
+namespace smokesvd::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The front views of a tiny scene no network saw (seed 999), rendered with the reference look.
+const fs::path& clip() {
+  static const fs::path frames = [] {
+    const fs::path root = tinyScratch("clip");
+    sim::Scene scene = sim::randomScene(999, preset("tiny").grid, 6);
+    scene.render.enabled = false;
+    sim::runScene(testContext(), scene, root / "scene", {});
+    render::RenderSettings look;
+    look.absorption = preset("tiny").absorption;
+    const std::vector<Camera> front{networks::orbitCameraAt(preset("tiny"), 0)};
+    for (int t = 0; t < 6; ++t) {
+      const io::NpyArray d = io::readNpzMember(root / "scene" / "fields" / ("density_" + sim::frameName(t) + ".npz"), "density");
+      const Tensor density = Tensor::fromHost(testContext(), d.shape, d.toFloat());
+      fs::create_directories(root / "frames");
+      media::writePng(root / "frames" / (sim::frameName(t) + ".png"), render::renderImages(testContext(), density, front, look)[0], 16);
+    }
+    return root / "frames";
+  }();
+  return frames;
+}
+
+reconstruct::ReconstructOptions quickOptions(const fs::path& out) {
+  reconstruct::ReconstructOptions o;
+  o.input.input = clip();
+  o.input.framing = reconstruct::Framing::Box;
+  o.input.intensity = "none";
+  o.out = out;
+  o.models = tinyModels();
+  o.preset = "tiny";
+  o.quiet = true;
+  o.sideView.steps = 3;
+  o.sideView.initSteps = 4;
+  o.motion.inflowIterations = 4;
+  return o;
+}
+
+std::vector<float> field(const fs::path& run, const std::string& name, int frame) {
+  return io::readNpzMember(run / "fields" / (name + "_" + sim::frameName(frame) + ".npz"), name).toFloat();
+}
+
+class ReconstructTest : public GpuTest {};
+
+TEST_F(ReconstructTest, WritesEveryOutputAndTheFieldsObeyTheAdvection) {
+  const fs::path out = tinyScratch("full");
+  const reconstruct::ReconstructResult r = reconstruct::runReconstruction(context(), quickOptions(out));
+  EXPECT_TRUE(r.complete);
+  EXPECT_EQ(r.frames, 6);
+  for (int t = 0; t < 6; ++t) {
+    for (const char* f : {"density", "velocity", "inflow"})
+      EXPECT_TRUE(fs::exists(out / "fields" / (std::string(f) + "_" + sim::frameName(t) + ".npz"))) << f << " " << t;
+    for (int v = 0; v < 16; ++v) {
+      char view[16];
+      std::snprintf(view, sizeof view, "view_%02d", v);
+      EXPECT_TRUE(fs::exists(out / "renders" / view / (sim::frameName(t) + ".png")));
+    }
+    EXPECT_TRUE(fs::exists(out / "side" / (sim::frameName(t) + ".png")));
+    EXPECT_TRUE(fs::exists(out / "input" / (sim::frameName(t) + ".png")));
+  }
+  for (const char* f : {"run.json", "scene.json", "flags.npz", "contact.png", "input.mp4", "side.mp4", "orbit.mp4"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  EXPECT_FALSE(fs::exists(out / "checkpoint.npz"));
+
+  // density[t] = A(density[t-1], velocity[t-1]) + inflow[t], recomputed from the files with the advection kernel.
+  const io::NpyArray flags = io::readNpzMember(out / "flags.npz", "flags");
+  const GridSize grid = preset("tiny").grid;
+  Stream stream(context());
+  const physics::FlagGrid flagGrid(stream, Tensor::fromHost(context(), grid.volume(), flags.toFloat()));
+  stream.submit();
+  for (int t = 1; t < 6; ++t) {
+    const std::vector<float> interleaved = field(out, "velocity", t - 1);
+    std::vector<float> planar(interleaved.size());
+    const std::size_t cells = interleaved.size() / 3;
+    for (std::size_t c = 0; c < cells; ++c)
+      for (std::size_t a = 0; a < 3; ++a) planar[a * cells + c] = interleaved[3 * c + a];
+    const Tensor previous = Tensor::fromHost(context(), grid.volume(), field(out, "density", t - 1));
+    const Tensor velocity = Tensor::fromHost(context(), grid.vector(), planar);
+    const Tensor inflow = Tensor::fromHost(context(), grid.volume(), field(out, "inflow", t));
+    const Tensor advected(context(), grid.volume());
+    Stream s(context());
+    physics::advect(s, flagGrid, previous, velocity, &inflow, physics::AdvectionParams{}, advected);
+    s.submit();
+    const std::vector<float> expected = advected.download(), written = field(out, "density", t);
+    for (std::size_t i = 0; i < written.size(); ++i)
+      ASSERT_EQ(written[i], expected[i]) << "frame " << t << ", voxel " << i;
+  }
+  std::ifstream runFile(out / "run.json");
+  const nlohmann::json run = nlohmann::json::parse(runFile);
+  EXPECT_EQ(run["stage_order"], nlohmann::json({"side_view", "density", "motion", "write"}));
+  EXPECT_TRUE(run["complete"].get<bool>());
+  for (const char* stage : {"side_view", "density", "motion", "write", "summaries"}) EXPECT_TRUE(run["stage_seconds"].contains(stage)) << stage;
+  EXPECT_EQ(run["box"]["absorption"].get<double>(), static_cast<double>(preset("tiny").absorption));
+}
+
+TEST_F(ReconstructTest, AResumedRunEqualsAnUninterruptedOne) {
+  const fs::path whole = tinyScratch("whole"), pieces = tinyScratch("pieces");
+  reconstruct::ReconstructOptions o = quickOptions(whole);
+  o.videos = false;
+  reconstruct::runReconstruction(context(), o);
+  o.out = pieces;
+  o.stopAfter = 3;
+  const reconstruct::ReconstructResult first = reconstruct::runReconstruction(context(), o);
+  EXPECT_FALSE(first.complete);
+  EXPECT_TRUE(fs::exists(pieces / "checkpoint.npz"));
+  EXPECT_THROW(reconstruct::runReconstruction(context(), o), Error);  // neither --resume nor --overwrite
+  o.stopAfter = -1;
+  o.resume = true;
+  const reconstruct::ReconstructResult second = reconstruct::runReconstruction(context(), o);
+  EXPECT_TRUE(second.complete);
+  EXPECT_EQ(second.framesThisCall, 3);
+  int compared = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(whole / "fields")) {
+    const fs::path relative = fs::relative(entry.path(), whole);
+    ASSERT_TRUE(fs::exists(pieces / relative)) << relative;
+    EXPECT_EQ(io::readFileBytes(entry.path()), io::readFileBytes(pieces / relative)) << relative;
+    ++compared;
+  }
+  for (const auto& entry : fs::recursive_directory_iterator(whole / "renders"))
+    if (entry.is_regular_file()) {
+      const fs::path relative = fs::relative(entry.path(), whole);
+      EXPECT_EQ(io::readFileBytes(entry.path()), io::readFileBytes(pieces / relative)) << relative;
+      ++compared;
+    }
+  EXPECT_EQ(compared, 6 * 3 + 6 * 16);
+}
+
+TEST_F(ReconstructTest, AOneFrameClipReconstructs) {
+  reconstruct::ReconstructOptions o = quickOptions(tinyScratch("one_frame"));
+  o.input.count = 1;
+  o.videos = false;
+  const reconstruct::ReconstructResult r = reconstruct::runReconstruction(context(), o);
+  EXPECT_TRUE(r.complete);
+  EXPECT_TRUE(fs::exists(o.out / "fields" / "velocity_0000.npz"));
+}
+
+std::string errorOf(Context& context, const reconstruct::ReconstructOptions& o) {
+  try {
+    reconstruct::runReconstruction(context, o);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST_F(ReconstructTest, BadInputsAreClearErrors) {
+  const fs::path scratch = tinyScratch("bad");
+  reconstruct::ReconstructOptions o = quickOptions(scratch / "out");
+  std::ofstream(scratch / "not_a_video.mp4") << "hello";
+  o.input.input = scratch / "not_a_video.mp4";
+  EXPECT_NE(errorOf(context(), o).find("not_a_video.mp4"), std::string::npos);
+
+  std::vector<float> values(3 * 28 * 16, 0.5f);
+  values[100] = std::nanf("");
+  io::writeNpy(scratch / "nan.npy", io::NpyArray::fromFloats({3, 28, 16}, values));
+  o.input.input = scratch / "nan.npy";
+  EXPECT_NE(errorOf(context(), o).find("frame 0, pixel (row 6, column 4) is not a finite number"), std::string::npos)
+      << errorOf(context(), o);
+
+  o = quickOptions(scratch / "out");
+  o.input.first = 40;
+  EXPECT_NE(errorOf(context(), o).find("no frames from frame 40"), std::string::npos) << errorOf(context(), o);
+
+  o = quickOptions(scratch / "out");
+  const fs::path partial = scratch / "models";
+  fs::copy(tinyModels(), partial, fs::copy_options::recursive);
+  fs::remove_all(partial / "svdiff");
+  o.models = partial;
+  EXPECT_NE(errorOf(context(), o).find("svdiff: no trained svdiff"), std::string::npos) << errorOf(context(), o);
+  fs::copy(tinyModels() / "svdiff", partial / "svdiff", fs::copy_options::recursive);
+  fs::copy_file(tinyModels() / "gu" / "model.safetensors", partial / "nvref" / "model.safetensors",
+                fs::copy_options::overwrite_existing);
+  const std::string mismatch = errorOf(context(), o);
+  EXPECT_NE(mismatch.find("does not match"), std::string::npos) << mismatch;
+  EXPECT_NE(mismatch.find("with a different shape"), std::string::npos) << mismatch;
+
+  o = quickOptions(scratch / "file_not_folder" / "out");
+  std::ofstream(scratch / "file_not_folder") << "x";
+  EXPECT_NE(errorOf(context(), o).find("file_not_folder"), std::string::npos) << errorOf(context(), o);
+
+  // A non-empty folder that is not a reconstruction is refused and left alone.
+  fs::create_directories(scratch / "mine");
+  std::ofstream(scratch / "mine" / "notes.txt") << "keep me";
+  o = quickOptions(scratch / "mine");
+  o.overwrite = true;
+  EXPECT_NE(errorOf(context(), o).find("holds no reconstruction"), std::string::npos) << errorOf(context(), o);
+  EXPECT_TRUE(fs::exists(scratch / "mine" / "notes.txt"));
+}
+
+}  // namespace
+}  // namespace smokesvd::testing
