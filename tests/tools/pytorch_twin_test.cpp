@@ -104,7 +104,8 @@ class PyTorchTwinTest : public GpuTest, public ::testing::WithParamInterface<Net
   // The UNet3+ outputs: y and every deep-supervision head.
   void expect(const models::UNet3PlusOutput& out) {
     expect("y", out.output);
-    for (std::size_t k = 0; k < out.supervision.size(); ++k) expect("supervision_" + std::to_string(k + 1), out.supervision[k]);
+    for (std::size_t k = 0; k < out.supervision.size(); ++k)
+      expect("supervision_" + std::to_string(k + 1), out.supervision[k]);
   }
 
   // Writes config, weights and inputs, runs the twin and compares every expected output.
@@ -195,8 +196,8 @@ TEST_P(PyTorchTwinTest, ReproducesTheNetwork) {
     networks::VelocityGenerator generator(context(), models::unet3PlusFromJson(config_.model, where), preset_);
     randomizeEveryParameter(generator.net(), 2);
     expect(generator.net().forward(tape, input("x", {1, 2, grid.z, grid.y, grid.x}, 0, 1), nullptr, true));
-    expect("velocity", generator.forward(tape, input("current", grid.volume(), 0, 1), input("next", grid.volume(), 0, 1))
-                           .velocity);
+    const Var current = input("current", grid.volume(), 0, 1), next = input("next", grid.volume(), 0, 1);
+    expect("velocity", generator.forward(tape, current, next).velocity);
     stream.submit();
     compareWithTwin(generator.net());
     return;
@@ -222,8 +223,9 @@ TEST_P(PyTorchTwinTest, ReproducesTheNetwork) {
   randomizeEveryParameter(synthesizer.net(), 4);
   expect("y", synthesizer.net().forward(tape, input("x", {2, samples + conditions, h, w}, -1, 1),
                                         given("t", {2}, {3, 917})));
-  expect("eps", synthesizer.predictNoise(tape, input("noisy", {2, samples, h, w}, -1, 1),
-                                         input("condition", {2, conditions, h, w}, 0, 1), given("steps", {2}, {41, 650})));
+  const Var noisy = input("noisy", {2, samples, h, w}, -1, 1);
+  const Var condition = input("condition", {2, conditions, h, w}, 0, 1);
+  expect("eps", synthesizer.predictNoise(tape, noisy, condition, given("steps", {2}, {41, 650})));
   stream.submit();
   compareWithTwin(synthesizer.net());
 }
