@@ -10,6 +10,7 @@
 #include "nets/io/npy.h"
 #include "runtime/error.h"
 #include "tests/harness/temp_dir.h"
+#include "tests/harness/test_data.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -78,9 +79,7 @@ TEST_F(NpyTest, NpzBytesDoNotDependOnTheTime) {
 }
 
 TEST_F(NpyTest, ReadsTheMantaflowReferenceFile) {
-  const fs::path file = fs::path(SMOKESVD_SOURCE_DIR) / "../shared/testdata/mantaflow/advect_32x48x32.npz";
-  if (!fs::exists(file)) GTEST_SKIP() << "shared test data not present at " << file;
-  const auto arrays = io::readNpz(file);
+  const auto arrays = io::readNpz(testData("mantaflow/advect_32x48x32.npz"));
   EXPECT_EQ(arrays.at("density_in").shape, (Shape{32, 48, 32}));
   EXPECT_EQ(arrays.at("vel_mac").shape, (Shape{32, 48, 32, 3}));
   EXPECT_EQ(arrays.at("flags").dtype, io::DType::Int32);

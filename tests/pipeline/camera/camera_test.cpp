@@ -8,6 +8,7 @@
 #include "pipeline/render/calibration_check.h"
 #include "runtime/error.h"
 #include "tests/harness/temp_dir.h"
+#include "tests/harness/test_data.h"
 #include "tests/pipeline/render/scenes.h"
 
 namespace smokesvd::testing {
@@ -17,12 +18,6 @@ namespace fs = std::filesystem;
 
 void expectNear(const Vec3& a, const Vec3& b, double tolerance = 1e-9) {
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(a[i], b[i], tolerance) << "component " << i;
-}
-
-// The real ScalarFlow footage shipped beside the repository, if present.
-fs::path scalarflowFolder() {
-  if (const char* dir = std::getenv("SMOKESVD_SCALARFLOW_DATA")) return dir;
-  return fs::path(SMOKESVD_SOURCE_DIR) / ".." / "shared" / "data" / "scalarflow_real";
 }
 
 TEST(CameraTest, OrbitAnglesAreEvenOnHalfATurn) {

@@ -7,6 +7,7 @@
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/op_runner.h"
 #include "tests/harness/random.h"
+#include "tests/harness/test_data.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -61,7 +62,7 @@ TEST_F(GpuTest, PaperVelocityLossOnTheTape) {
 // mantaflow's advection test case through the op runner: MAC velocity from the file layout, then
 // MacCormack forward, and a backward whose gradients have the inputs' shapes.
 TEST_F(GpuTest, AdvectsMantaflowCaseThroughTheOpCommand) {
-  const auto arrays = io::readNpz(SMOKESVD_SOURCE_DIR "/../shared/testdata/mantaflow/advect_32x48x32.npz");
+  const auto arrays = io::readNpz(testData("mantaflow/advect_32x48x32.npz"));
   const OpRun planar = runOpCommand("velocity_to_planar", {{"x", arrays.at("vel_mac")}}, {"y"});
   ASSERT_EQ(planar.exitCode, 0) << planar.err;
   const io::NpyArray& velocity = planar.outputs.at("y");

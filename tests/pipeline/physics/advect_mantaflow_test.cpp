@@ -11,17 +11,17 @@
 #include "pipeline/physics/grid.h"
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
+#include "tests/harness/test_data.h"
 
 namespace smokesvd::testing {
 namespace {
 
-const char* const kReference = SMOKESVD_SOURCE_DIR "/../shared/testdata/mantaflow/advect_32x48x32.npz";
 
 class MantaflowAdvectionTest : public GpuTest {
  protected:
   void SetUp() override {
     GpuTest::SetUp();
-    arrays_ = io::readNpz(kReference);
+    arrays_ = io::readNpz(testData("mantaflow/advect_32x48x32.npz"));
   }
   Tensor tensor(const std::string& key) {
     const io::NpyArray& array = arrays_.at(key);
