@@ -62,6 +62,10 @@ nlohmann::json signature(const ReconstructOptions& o, const MethodModels& models
            {{"inflow_iterations", o.motion.inflowIterations}, {"inflow_lr", o.motion.inflowLr},
             {"inflow_height", o.motion.inflowHeight}, {"image_weight", o.motion.imageWeight},
             {"smooth_weight", o.motion.smoothWeight}}},
+          {"polish",
+           {{"steps", o.polish.steps}, {"lr", o.polish.lr}, {"input_weight", o.polish.inputWeight},
+            {"view_weight", o.polish.viewWeight}, {"divergence_weight", o.polish.divergenceWeight},
+            {"prior_weight", o.polish.priorWeight}}},
           {"source", views.describe()}};
 }
 
@@ -179,9 +183,14 @@ ReconstructResult runReconstruction(Context& context, const ReconstructOptions& 
     const DensityResult density = timed("density", [&] {
       return reconstructDensity(context, models, state, t, front, side, look, o.density);
     });
-    const MotionResult motion = timed("motion", [&] {
+    MotionResult motion = timed("motion", [&] {
       return advanceDensity(context, models, state, t, grid, density.density, front, look, advection, o.motion);
     });
+    if (o.polish.steps > 0)
+      timed("polish", [&] {
+        polishMotion(context, state, t, grid, models.coarse->views(), density.views, look, advection, o.motion, o.polish, motion);
+        return 0;
+      });
     timed("write", [&] {
       folder.writeFrame(t, motion.density, motion.inflow, density.views, side, front);
       if (motion.velocity.defined()) folder.writeVelocity(t - 1, motion.velocity);

@@ -20,6 +20,7 @@
 #include "pipeline/reconstruct/density_stage.h"
 #include "pipeline/reconstruct/front_views.h"
 #include "pipeline/reconstruct/motion_stage.h"
+#include "pipeline/reconstruct/polish_stage.h"
 #include "pipeline/reconstruct/side_view_stage.h"
 #include "runtime/context.h"
 
@@ -37,6 +38,7 @@ struct ReconstructOptions {
   SideViewOptions sideView;
   DensityOptions density;
   MotionOptions motion;
+  PolishOptions polish;
 };
 
 struct ReconstructResult {

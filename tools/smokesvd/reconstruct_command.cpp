@@ -20,7 +20,7 @@ struct ReconstructArguments {
   std::string preset = "small";
   float threshold = 0.02f, target = 0.9f;
   uint64_t seed = 0;
-  int ddimSteps = 20, initSteps = 50, inflowIterations = 40;
+  int ddimSteps = 20, initSteps = 50, inflowIterations = 40, polish = 0;
   double eta = 1.0, inflowLr = 0.05, inflowHeight = 0.25;
   bool noRefine = false, noProgressive = false, noVideos = false, resume = false, overwrite = false;
 };
@@ -83,6 +83,7 @@ void runReconstruct(const GlobalOptions& global, const ReconstructArguments& a) 
   o.motion.inflowIterations = a.inflowIterations;
   o.motion.inflowLr = a.inflowLr;
   o.motion.inflowHeight = a.inflowHeight;
+  o.polish.steps = a.polish;
   Context context(global.contextOptions());
   const reconstruct::ReconstructResult r = reconstruct::runReconstruction(context, o);
   if (r.complete && r.framesThisCall == 0)
@@ -118,6 +119,8 @@ void addReconstructCommand(CLI::App& app, const GlobalOptions& global, Action& a
   c->add_option("--inflow-lr", a.inflowLr, "learning rate of the inflow optimisation (default 0.05)")->check(CLI::PositiveNumber);
   c->add_option("--inflow-height", a.inflowHeight, "the inflow is zero above this fraction of the box (default 0.25)")
       ->check(CLI::Range(0.0, 1.0));
+  c->add_option("--polish", a.polish, "N optimisation steps per frame on velocity and inflow through the renderer (default 0)")
+      ->check(CLI::NonNegativeNumber);
   c->add_flag("--no-videos", a.noVideos, "skip input/side/orbit mp4 and the contact sheet");
   c->add_flag("--resume", a.resume, "continue the run in --out at its first unfinished frame");
   c->add_flag("--overwrite", a.overwrite, "replace the reconstruction in --out");
