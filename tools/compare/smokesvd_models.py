@@ -20,6 +20,7 @@ functions density_generator, velocity_generator, refine and predict_side_view_no
 Usage from the command line (arrays in .npz files; outputs float32):
 
     python3 smokesvd_models.py MODEL_DIR --inputs in.npz --out out.npz [--deep-supervision] [--dtype float64]
+                               [--save-weights resaved.safetensors]
 
 in.npz may hold the architecture's input, the network's inputs, or both; out.npz gets the outputs of each:
     architecture: x, plus presence [N, slots] (G_rho) or t [N] (SvDiff) -> y, and with --deep-supervision
@@ -82,6 +83,7 @@ def read_safetensors(path):
 
 def write_safetensors(path, tensors, metadata=None):
     """Writes name -> tensor (any float dtype; stored as F32) in the given order, as smokesvd does."""
+    path = os.fspath(path)
     header, chunks, offset = {}, [], 0
     for name, tensor in tensors.items():
         array = np.ascontiguousarray(tensor.detach().cpu().numpy(), dtype="<f4")
@@ -384,7 +386,8 @@ def _tensor(arrays, key, dtype):
     return torch.from_numpy(np.asarray(arrays[key])).to(dtype)
 
 
-_NETWORK_INPUTS = {"grho-coarse": ["lifted", "presence"], "grho-fine": ["lifted", "presence"], "gu": ["current", "next"],
+_NETWORK_INPUTS = {"grho-coarse": ["lifted", "presence"], "grho-fine": ["lifted", "presence"],
+                   "gu": ["current", "next"],
                    "nvref": ["render", "minus", "plus", "previous", "before_previous"],
                    "svdiff": ["noisy", "condition", "steps"], "svdiff-init": ["noisy", "condition", "steps"]}
 
@@ -418,10 +421,13 @@ def main(argv):
     parser.add_argument("--out", required=True, help=".npz to write the outputs to (float32)")
     parser.add_argument("--deep-supervision", action="store_true", help="also the UNet3+ supervision heads")
     parser.add_argument("--dtype", choices=["float32", "float64"], default="float32", help="the twin's precision")
+    parser.add_argument("--save-weights", metavar="PATH", help="also write the loaded model's state_dict (F32) to PATH")
     args = parser.parse_args(argv)
     dtype = getattr(torch, args.dtype)
     network = read_config(args.model_dir).get("network")
     model = load_model(args.model_dir, dtype)
+    if args.save_weights:
+        save_weights(model, args.save_weights)
     with np.load(args.inputs) as data:
         arrays = {key: data[key] for key in data.files}
     outputs = {}

@@ -45,6 +45,7 @@ namespace {
 // float64, so the figures measure smokesvd's float32 arithmetic. Criterion, for every output array y
 // against the twin's t (shapes equal, every element finite):
 //   max_i |y_i - t_i| <= 1e-4 max_i |t_i|
+// and the weights the twin writes back load here and equal the originals bit for bit.
 // Skipped, with a message, when no Python 3 on this machine imports torch and numpy.
 
 namespace fs = std::filesystem;
@@ -108,8 +109,9 @@ class PyTorchTwinTest : public GpuTest, public ::testing::WithParamInterface<Net
       expect("supervision_" + std::to_string(k + 1), out.supervision[k]);
   }
 
-  // Writes config, weights and inputs, runs the twin and compares every expected output.
-  void compareWithTwin(const modules::Module& net) {
+  // Writes config, weights and inputs, runs the twin and compares every expected output; the weights the
+  // twin writes back (its state_dict) must load here strictly and equal the originals bit for bit.
+  void compareWithTwin(modules::Module& net) {
     const TempDir folder("twin");
     {
       std::ofstream config(folder / "config.json");
@@ -119,8 +121,9 @@ class PyTorchTwinTest : public GpuTest, public ::testing::WithParamInterface<Net
     io::writeNpz(folder / "inputs.npz", inputs_);
     const std::string command = torchPython() + " " SMOKESVD_SOURCE_DIR "/tools/compare/smokesvd_models.py " +
                                 folder.path().string() + " --inputs " + folder.file("inputs.npz") +
-                                " --out " + folder.file("outputs.npz") +
-                                " --deep-supervision --dtype float64 2>" + folder.file("stderr.txt");
+                                " --out " + folder.file("outputs.npz") + " --deep-supervision --dtype float64" +
+                                " --save-weights " + folder.file("resaved.safetensors") +
+                                " 2>" + folder.file("stderr.txt");
     const int status = std::system(command.c_str());
     ASSERT_TRUE(status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0)
         << command << "\n" << slurp(folder / "stderr.txt");
@@ -131,6 +134,11 @@ class PyTorchTwinTest : public GpuTest, public ::testing::WithParamInterface<Net
       ASSERT_NE(found, twin.end()) << "the twin wrote no '" << key << "'";
       compare(key, output->value.download(), output->value.shape(), found->second);
     }
+    std::vector<std::vector<float>> original;
+    for (const auto& [name, p] : net.namedParameters()) original.push_back(p->value.download());
+    modules::loadWeights(folder / "resaved.safetensors", net);
+    std::size_t i = 0;
+    for (const auto& [name, p] : net.namedParameters()) EXPECT_EQ(p->value.download(), original[i++]) << name;
   }
 
   networks::NetworkConfig config_ = networks::defaultNetworkConfig("tiny", GetParam());
