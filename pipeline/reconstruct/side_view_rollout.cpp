@@ -1,0 +1,95 @@
+#include "pipeline/reconstruct/side_view_rollout.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "pipeline/differentiable/render.h"
+#include "pipeline/networks/view_slots.h"
+#include "pipeline/render/render_images.h"
+#include "pipeline/train/view_losses.h"
+#include "runtime/error.h"
+#include "runtime/stream.h"
+
+namespace smokesvd::reconstruct {
+namespace {
+
+double average(const std::vector<double>& v, std::size_t begin, std::size_t end) {
+  end = std::min(end, v.size());
+  if (begin >= end) return 0;
+  return std::accumulate(v.begin() + static_cast<std::ptrdiff_t>(begin), v.begin() + static_cast<std::ptrdiff_t>(end), 0.0) /
+         static_cast<double>(end - begin);
+}
+
+}  // namespace
+
+double RolloutResult::mean() const { return average(psnr, 0, psnr.size()); }
+double RolloutResult::mirroredMean() const { return average(mirrored, 0, mirrored.size()); }
+double RolloutResult::firstTen() const { return average(psnr, 0, 10); }
+double RolloutResult::lastTen() const { return average(psnr, psnr.size() >= 10 ? psnr.size() - 10 : 0, psnr.size()); }
+
+nlohmann::json RolloutResult::toJson() const {
+  return {{"scenes", scenes},       {"frames", psnr.size()},  {"psnr_mean", mean()},
+          {"psnr_mirrored_front_mean", mirroredMean()},       {"psnr_first_10", firstTen()},
+          {"psnr_last_10", lastTen()}, {"psnr_per_frame", psnr}, {"psnr_mirrored_front_per_frame", mirrored}};
+}
+
+RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int frames,
+                              int scenes, const SideViewOptions& options) {
+  const Preset& preset = data.preset();
+  RolloutResult result;
+  result.psnr.assign(static_cast<std::size_t>(frames), 0.0);
+  result.mirrored.assign(static_cast<std::size_t>(frames), 0.0);
+  const std::vector<Camera> frontSide{networks::orbitCameraAt(preset, 0), networks::orbitCameraAt(preset, 90)};
+  const render::ViewSet sideCamera = render::uploadViews(context, std::vector<Camera>{frontSide[1]});
+  for (const dataset::SceneEntry& scene : data.validation()) {
+    if (result.scenes >= scenes) break;
+    if (scene.frames < frames) continue;
+    const render::RenderSettings look = data.look(scene);
+    std::vector<media::Image> fronts, sides;
+    for (int t = 0; t < frames; ++t) {
+      const auto images = render::renderImages(context, Tensor::fromHost(context, preset.grid.volume(), data.density(scene, t)),
+                                               frontSide, look);
+      fronts.push_back(images[0]);
+      sides.push_back(images[1]);
+    }
+    FrameState state(context, preset);
+    for (int t = 0; t < frames; ++t) {
+      const Shape image{1, 1, preset.imageHeight, preset.imageWidth};
+      const Tensor front = Tensor::fromHost(context, image, fronts[static_cast<std::size_t>(t)].values);
+      const Tensor next = Tensor::fromHost(context, image, fronts[static_cast<std::size_t>(std::min(t + 1, frames - 1))].values);
+      const Tensor side = sideView(context, models, state, t, front, next, options);
+      Stream stream(context);
+      Tape tape(stream);
+      NoGrad noGrad(tape);
+      const Var coarse = models.coarse->forward(tape,
+                                                models.coarse->slotImages(tape, {{networks::kFrontSlot, variable(front)},
+                                                                                 {networks::kSideSlot, variable(side)}}),
+                                                variable(Tensor::fromHost(context, {networks::kSlots}, [] {
+                                                  std::vector<float> p(networks::kSlots, 0.0f);
+                                                  p[networks::kFrontSlot] = p[networks::kSideSlot] = 1.0f;
+                                                  return p;
+                                                }())))
+                             .density;
+      const Var render = diff::render(tape, coarse, sideCamera, look);
+      stream.copy(state.side1, state.side2);
+      stream.copy(state.sideRender1, state.sideRender2);
+      stream.copy(side, state.side1);
+      stream.copy(render->value, state.sideRender1);
+      stream.submit();
+      const std::vector<float> synthesized = side.download();
+      std::vector<float> mirror = fronts[static_cast<std::size_t>(t)].values;
+      for (int r = 0; r < preset.imageHeight; ++r)
+        std::reverse(mirror.begin() + r * preset.imageWidth, mirror.begin() + (r + 1) * preset.imageWidth);
+      result.psnr[static_cast<std::size_t>(t)] += train::psnr(synthesized, sides[static_cast<std::size_t>(t)].values);
+      result.mirrored[static_cast<std::size_t>(t)] += train::psnr(mirror, sides[static_cast<std::size_t>(t)].values);
+    }
+    ++result.scenes;
+  }
+  if (result.scenes == 0)
+    throw Error(data.root().string() + ": no validation scene has the " + std::to_string(frames) + " frames of the rollout");
+  for (double& v : result.psnr) v /= result.scenes;
+  for (double& v : result.mirrored) v /= result.scenes;
+  return result;
+}
+
+}  // namespace smokesvd::reconstruct

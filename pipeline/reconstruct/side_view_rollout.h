@@ -1,0 +1,34 @@
+// SvDiff's own quality check (issue: a 40-frame autoregressive rollout): for held-out simulated scenes,
+// the side view of every frame is synthesised exactly as a reconstruction does it (SvDiff-init for frames
+// 0 and 1, then SvDiff conditioned on its own previous side views and the 90-degree renders of their
+// coarse densities) from the true front views, and compared with the true side views: PSNR per frame
+// (data range 1, whole preset-size images), beside the naive baseline of the mirrored front view.
+// Front and side views are renders of the simulated densities with each scene's look in the networks'
+// units (pipeline/dataset/scene_dataset.h).
+#pragma once
+
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "pipeline/dataset/scene_dataset.h"
+#include "pipeline/reconstruct/method_models.h"
+#include "pipeline/reconstruct/side_view_stage.h"
+
+namespace smokesvd::reconstruct {
+
+struct RolloutResult {
+  std::vector<double> psnr, mirrored;  // per frame, mean over scenes
+  int scenes = 0;
+  double mean() const;
+  double mirroredMean() const;
+  double firstTen() const;
+  double lastTen() const;
+  nlohmann::json toJson() const;
+};
+
+// Rolls out `frames` frames on up to `scenes` validation scenes that have that many frames.
+RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int frames,
+                              int scenes, const SideViewOptions& options);
+
+}  // namespace smokesvd::reconstruct
