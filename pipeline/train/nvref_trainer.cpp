@@ -63,7 +63,7 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
       refiner_(context, models::unet3PlusFromJson(config.model, config.source + " [model]")), look_(context),
       batch_(context, data.preset(), kBatch) {
   const std::string lossWhere = config.source + " [loss]", optionsWhere = config.source + " [options]";
-  models::requireKnownKeys(config.loss, {"mse", "l1", "mean_residual", "row_sum", "psnr_gap", "deep_supervision"}, lossWhere);
+  models::requireKnownKeys(config.loss, {"mse", "l1", "mean_residual", "row_sum", "psnr_gap"}, lossWhere);
   models::requireKnownKeys(config.options, {"beta", "coarse_model"}, optionsWhere);
   weights_ = {networks::number(config.loss, "mse", lossWhere), networks::number(config.loss, "l1", lossWhere),
               networks::number(config.loss, "mean_residual", lossWhere), networks::number(config.loss, "row_sum", lossWhere),
