@@ -1,6 +1,7 @@
 #include "runtime/buffer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cstring>
 #include <string>
@@ -29,7 +30,7 @@ uint32_t chooseMemoryType(VkPhysicalDevice device, uint32_t allowed, VkMemoryPro
 
 }  // namespace
 
-Buffer::Buffer(Context& context, VkDeviceSize bytes, bool hostVisible) : context_(context), capacity_(bytes) {
+BufferMemory::BufferMemory(Context& context, VkDeviceSize bytes, bool hostVisible) : context_(context), capacity_(bytes) {
   VkDevice device = context.device();
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = bytes;
@@ -55,7 +56,7 @@ Buffer::Buffer(Context& context, VkDeviceSize bytes, bool hostVisible) : context
   if (mappable) vkCheck(vkMapMemory(device, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "mapping buffer memory");
 }
 
-Buffer::~Buffer() {
+BufferMemory::~BufferMemory() {
   VkDevice device = context_.device();
   for (VkBufferView view : views_)
     if (view) vkDestroyBufferView(device, view, nullptr);
@@ -63,7 +64,7 @@ Buffer::~Buffer() {
   vkFreeMemory(device, memory_, nullptr);
 }
 
-VkBufferView Buffer::view(TexelFormat format) {
+VkBufferView BufferMemory::view(TexelFormat format) {
   VkBufferView& view = views_[static_cast<int>(format)];
   if (view) return view;
   const VkDeviceSize texelBytes = format == TexelFormat::Float ? 4 : 16;
@@ -77,13 +78,13 @@ VkBufferView Buffer::view(TexelFormat format) {
   return view;
 }
 
-void Buffer::write(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+void BufferMemory::write(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
   if (bytes == 0) return;
   if (mapped_) {
     std::memcpy(static_cast<char*>(mapped_) + offset, data, bytes);
     return;
   }
-  Buffer staging(context_, bytes, true);
+  BufferMemory staging(context_, bytes, true);
   std::memcpy(staging.mapped(), data, bytes);
   context_.runOnce("uploading " + mebibytes(bytes), [&](VkCommandBuffer commands) {
     VkBufferCopy region{0, offset, bytes};
@@ -91,19 +92,42 @@ void Buffer::write(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
   });
 }
 
-void Buffer::read(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
+void BufferMemory::read(void* data, VkDeviceSize bytes, VkDeviceSize offset) const {
   if (bytes == 0) return;
   if (mapped_) {
     std::memcpy(data, static_cast<const char*>(mapped_) + offset, bytes);
     return;
   }
-  Buffer staging(context_, bytes, true);
+  BufferMemory staging(context_, bytes, true);
   context_.runOnce("downloading " + mebibytes(bytes), [&](VkCommandBuffer commands) {
     VkBufferCopy region{offset, 0, bytes};
     vkCmdCopyBuffer(commands, buffer_, staging.handle(), 1, &region);
   });
   std::memcpy(data, staging.mapped(), bytes);
 }
+
+uint64_t nextSerial() {
+  static std::atomic<uint64_t> serial{0};
+  return ++serial;
+}
+
+Buffer::Buffer(Context& context, VkDeviceSize bytes, bool hostVisible)
+    : memory_(std::make_shared<BufferMemory>(context, bytes, hostVisible)) {}
+
+Buffer::Buffer(std::shared_ptr<BufferMemory> memory, uint64_t serial) : memory_(std::move(memory)), serial_(serial) {}
+
+void Buffer::write(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+  BufferMemory::Lives& lives = memory_->lives_;
+  if (lives.reused)
+    throw Error("writing " + std::to_string(bytes) + " bytes from the host into a buffer that a recorded stream "
+                "also uses for earlier tensors (buffer reuse within the recording); the write would reach them "
+                "when it runs. Upload before the stream first writes the tensor, or reset() the stream first");
+  untouched_ = false;
+  if (lives.recording != 0) lives.foreign = true;
+  memory_->write(data, bytes, offset);
+}
+
+void Buffer::read(void* data, VkDeviceSize bytes, VkDeviceSize offset) const { memory_->read(data, bytes, offset); }
 
 BufferPool::~BufferPool() { trim(); }
 
@@ -123,47 +147,63 @@ std::shared_ptr<Buffer> BufferPool::acquire(VkDeviceSize bytes, std::string_view
                 "' (its storage-buffer range and texel-buffer size)");
   }
   const VkDeviceSize capacity = sizeClass(bytes);
-  std::unique_ptr<Buffer> buffer;
+  std::unique_ptr<BufferMemory> memory;
   {
     std::lock_guard lock(mutex_);
     auto found = idle_.find(capacity);
     if (found != idle_.end()) {
-      buffer = std::move(found->second);
+      memory = std::move(found->second);
       idle_.erase(found);
       stats_.idleBytes -= capacity;
       ++stats_.reused;
     }
   }
-  if (!buffer) {
+  if (!memory) {
     try {
-      buffer = std::make_unique<Buffer>(context_, capacity);
+      memory = std::make_unique<BufferMemory>(context_, capacity, false);
     } catch (const VulkanError& error) {
       if (error.result() != VK_ERROR_OUT_OF_DEVICE_MEMORY) throw;
       trim();  // idle buffers of other classes may be what stands in the way
-      buffer = std::make_unique<Buffer>(context_, capacity);
+      memory = std::make_unique<BufferMemory>(context_, capacity, false);
     }
     std::lock_guard lock(mutex_);
     ++stats_.created;
+    stats_.allocatedBytes += capacity;
+    stats_.peakAllocatedBytes = std::max(stats_.peakAllocatedBytes, stats_.allocatedBytes);
   }
-  return std::shared_ptr<Buffer>(buffer.release(), [this](Buffer* released) { giveBack(released); });
+  {
+    std::lock_guard lock(mutex_);
+    stats_.liveBytes += capacity;
+    stats_.peakLiveBytes = std::max(stats_.peakLiveBytes, stats_.liveBytes);
+  }
+  std::shared_ptr<BufferMemory> shared(memory.release(), [this](BufferMemory* released) { giveBack(released); });
+  return std::make_shared<Buffer>(std::move(shared), nextSerial());
 }
 
-void BufferPool::giveBack(Buffer* buffer) {
+void BufferPool::giveBack(BufferMemory* memory) {
   std::lock_guard lock(mutex_);
-  stats_.idleBytes += buffer->capacity();
-  idle_.emplace(buffer->capacity(), std::unique_ptr<Buffer>(buffer));
+  stats_.idleBytes += memory->capacity();
+  stats_.liveBytes -= memory->capacity();
+  idle_.emplace(memory->capacity(), std::unique_ptr<BufferMemory>(memory));
 }
 
 void BufferPool::trim() {
-  std::multimap<VkDeviceSize, std::unique_ptr<Buffer>> released;
+  std::multimap<VkDeviceSize, std::unique_ptr<BufferMemory>> released;
   std::lock_guard lock(mutex_);
   released.swap(idle_);
+  stats_.allocatedBytes -= stats_.idleBytes;
   stats_.idleBytes = 0;
 }
 
 BufferPool::Stats BufferPool::stats() const {
   std::lock_guard lock(mutex_);
   return stats_;
+}
+
+void BufferPool::resetPeaks() {
+  std::lock_guard lock(mutex_);
+  stats_.peakLiveBytes = stats_.liveBytes;
+  stats_.peakAllocatedBytes = stats_.allocatedBytes;
 }
 
 }  // namespace smokesvd

@@ -52,7 +52,7 @@ struct InstanceHandle {
   }
 };
 
-VkInstance createInstance(bool validation, VkDebugUtilsMessengerCreateInfoEXT* messenger) {
+VkInstance createInstance(bool validation, bool synchronization, VkDebugUtilsMessengerCreateInfoEXT* messenger) {
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "smokesvd";
   app.apiVersion = VK_API_VERSION_1_2;
@@ -65,8 +65,13 @@ VkInstance createInstance(bool validation, VkDebugUtilsMessengerCreateInfoEXT* m
     layers.push_back(kValidationLayer);
     extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
   }
+  const VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+  VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+  features.pNext = messenger;
+  features.enabledValidationFeatureCount = 1;
+  features.pEnabledValidationFeatures = enables;
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-  info.pNext = validation ? messenger : nullptr;
+  info.pNext = !validation ? nullptr : synchronization ? static_cast<const void*>(&features) : messenger;
   info.pApplicationInfo = &app;
   info.enabledLayerCount = static_cast<uint32_t>(layers.size());
   info.ppEnabledLayerNames = layers.data();
@@ -87,14 +92,17 @@ std::string deviceRequest(const ContextOptions& options) {
 
 std::vector<DeviceInfo> Context::listDevices(ContextOptions) {
   InstanceHandle handle;
-  handle.instance = createInstance(false, nullptr);
+  handle.instance = createInstance(false, false, nullptr);
   return queryDevices(handle.instance);
 }
 
 Context::Context(ContextOptions options)
-    : validation_(options.validation || envFlag("SMOKESVD_VALIDATION")), forceStaging_(options.forceStaging) {
+    : validation_(options.validation || envFlag("SMOKESVD_VALIDATION")),
+      forceStaging_(options.forceStaging),
+      checkFinite_(options.checkFinite || envFlag("SMOKESVD_CHECK")) {
   VkDebugUtilsMessengerCreateInfoEXT messenger = messengerInfo(this);
-  instance_ = createInstance(validation_, &messenger);
+  const bool synchronization = options.synchronizationValidation || envFlag("SMOKESVD_SYNC_VALIDATION");
+  instance_ = createInstance(validation_, synchronization, &messenger);
   try {
     if (validation_) {
       auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(

@@ -26,6 +26,9 @@ struct ContextOptions {
   std::string device;
   // Enable VK_LAYER_KHRONOS_validation. Also on when SMOKESVD_VALIDATION=1.
   bool validation = false;
+  // With validation: the layer's synchronization validation too (missing barriers, hazards). Also on
+  // when SMOKESVD_SYNC_VALIDATION=1.
+  bool synchronizationValidation = false;
   // Move data through staging buffers even where memory is unified, as on a discrete GPU (tests that path).
   bool forceStaging = false;
   // Treat the device as lacking float32 atomic add, so that scattering kernels use their
@@ -34,6 +37,9 @@ struct ContextOptions {
   // Test mode: every tensor starts NaN-filled and is followed by a guard region that its storage
   // bindings span; tensorGuards() reports guards a kernel wrote (runtime/tensor_guards.h).
   bool guardTensors = false;
+  // Every Stream scans what each dispatch writes for NaN/Inf and throws at the first (runtime/finite_check.h).
+  // Also on when SMOKESVD_CHECK=1.
+  bool checkFinite = false;
 };
 
 class Context {
@@ -59,6 +65,7 @@ class Context {
   // The guards of a context created with guardTensors; nullptr otherwise.
   TensorGuards* tensorGuards() const { return tensorGuards_.get(); }
   bool validationEnabled() const { return validation_; }
+  bool checkFinite() const { return checkFinite_; }
   // Whether tensor buffers are mapped and read/written with memcpy (unified memory) or staged.
   bool mappedBuffers() const { return info_.unifiedMemory && !forceStaging_; }
   PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet() const { return cmdPushDescriptorSet_; }
@@ -82,6 +89,7 @@ class Context {
 
   bool validation_ = false;
   bool forceStaging_ = false;
+  bool checkFinite_ = false;
   VkInstance instance_ = VK_NULL_HANDLE;
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   VkPhysicalDevice physicalDevice_ = VK_NULL_HANDLE;

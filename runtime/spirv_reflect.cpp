@@ -1,8 +1,10 @@
 #include "runtime/spirv_reflect.h"
 
 #include <algorithm>
+#include <functional>
 #include <map>
 #include <set>
+#include <string_view>
 
 #include "runtime/error.h"
 
@@ -11,8 +13,9 @@ namespace {
 
 // The few SPIR-V opcodes, decorations and storage classes the reflection needs (SPIR-V 1.5 spec).
 enum Op : uint32_t {
-  OpName = 5, OpTypeImage = 25, OpTypeSampledImage = 27, OpTypeArray = 28, OpTypeRuntimeArray = 29,
-  OpTypeStruct = 30, OpTypePointer = 32, OpVariable = 59, OpDecorate = 71, OpMemberDecorate = 72,
+  OpName = 5, OpTypeInt = 21, OpTypeVector = 23, OpTypeMatrix = 24, OpTypeImage = 25, OpTypeSampledImage = 27,
+  OpTypeArray = 28, OpTypeRuntimeArray = 29, OpTypeStruct = 30, OpTypePointer = 32, OpVariable = 59,
+  OpDecorate = 71, OpMemberDecorate = 72,
 };
 enum Decoration : uint32_t { SpecId = 1, Block = 2, BufferBlock = 3, NonWritable = 24, NonReadable = 25,
                              Binding = 33, DescriptorSet = 34 };
@@ -65,6 +68,7 @@ ShaderInterface reflectShader(std::span<const uint32_t> spirv, const std::string
         break;
       }
       case OpMemberDecorate: decorations[words[1]].memberFlags[words[2]].insert(words[3]); break;
+      case OpTypeInt: case OpTypeVector: case OpTypeMatrix:
       case OpTypeImage: case OpTypeSampledImage: case OpTypeArray: case OpTypeRuntimeArray:
       case OpTypeStruct: case OpTypePointer:
         types[words[1]].assign(words.begin(), words.end());
@@ -89,6 +93,22 @@ ShaderInterface reflectShader(std::span<const uint32_t> spirv, const std::string
       if (flags == found->second.memberFlags.end() || flags->second.count(flag) == 0) return false;
     }
     return true;
+  };
+
+  // Whether a type holds a signed integer anywhere (int, ivec, arrays and structs of them).
+  std::function<bool(uint32_t)> holdsSignedInt = [&](uint32_t id) -> bool {
+    auto found = types.find(id);
+    if (found == types.end()) return false;
+    const std::vector<uint32_t>& type = found->second;
+    switch (type[0]) {
+      case OpTypeInt: return type[3] == 1;
+      case OpTypeVector: case OpTypeMatrix: case OpTypeArray: case OpTypeRuntimeArray: return holdsSignedInt(type[2]);
+      case OpTypeStruct:
+        for (std::size_t m = 2; m < type.size(); ++m)
+          if (holdsSignedInt(type[m])) return true;
+        return false;
+      default: return false;
+    }
   };
 
   ShaderInterface result;
@@ -130,6 +150,9 @@ ShaderInterface reflectShader(std::span<const uint32_t> spirv, const std::string
       info.kind = BindingKind::StorageBuffer;
       info.writes = !(hasFlag(variable.id, NonWritable) || everyMemberHas(pointee, NonWritable));
       info.reads = !(hasFlag(variable.id, NonReadable) || everyMemberHas(pointee, NonReadable));
+      const std::string block = names.count(pointee) ? names[pointee] : "";
+      const std::string_view suffix = "NonFinite";
+      info.finiteFloats = !holdsSignedInt(pointee) && !block.ends_with(suffix);
     } else {
       throw fail("binding '" + info.name + "' has a kind smokesvd does not bind (use buffer or samplerBuffer)");
     }

@@ -20,6 +20,9 @@ struct BindingInfo {
   BindingKind kind = BindingKind::StorageBuffer;
   bool reads = true;
   bool writes = false;
+  // Whether the block holds floats meant to be finite, which the finite check scans (runtime/finite_check.h):
+  // false for blocks of signed integers (`int`) and for blocks named *NonFinite (±Inf on purpose).
+  bool finiteFloats = true;
   std::string name;  // the GLSL variable or block name, for errors
 };
 

@@ -6,10 +6,35 @@
 
 #include "runtime/context.h"
 #include "runtime/error.h"
+#include "runtime/finite_check.h"
 
 namespace smokesvd {
+namespace {
 
-Stream::Stream(Context& context, StreamOptions options) : context_(context), options_(options) {
+// Workgroups for `invocations` items of a flat dispatch: a 2D grid, as flat_index() in index.glsl expects.
+std::array<uint32_t, 3> flatGroups(uint64_t invocations, uint32_t workgroupX) {
+  const uint64_t groups = (invocations + workgroupX - 1) / workgroupX;
+  const uint64_t width = std::min<uint64_t>(groups, 65535);
+  const uint64_t height = width == 0 ? 0 : (groups + width - 1) / width;
+  return {static_cast<uint32_t>(width), static_cast<uint32_t>(std::max<uint64_t>(height, width ? 1 : 0)), 1};
+}
+
+// The floats of an argument the finite check scans: the tensor's elements (not the padding or guard its
+// binding may span), or every float of a raw buffer argument.
+uint64_t scannedElements(const Arg& arg) {
+  return arg.shape ? static_cast<uint64_t>(numElements(*arg.shape)) : arg.bytes / sizeof(float);
+}
+
+// Whether the finite check scans what a dispatch writes to this argument.
+bool scanned(const Arg& arg, const BindingInfo& binding) {
+  return binding.writes && binding.finiteFloats && scannedElements(arg) > 0;
+}
+
+}  // namespace
+
+Stream::Stream(Context& context, StreamOptions options)
+    : context_(context), options_(options), memory_(options.reuseBuffers) {
+  if (options_.checkFinite || context.checkFinite()) check_ = std::make_unique<FiniteCheck>(context);
   VkDevice device = context.device();
   VkCommandBufferAllocateInfo allocate{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
   allocate.commandPool = context.commandPool();
@@ -68,6 +93,25 @@ void Stream::barrier() {
   writtenSinceBarrier_.clear();
 }
 
+void Stream::useBuffers(std::span<const Arg> args, const std::vector<BindingInfo>& bindings) {
+  struct Use {
+    Buffer* buffer;
+    bool reads, writes;
+  };
+  std::vector<Use> uses;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    Buffer* buffer = args[i].buffer.get();
+    auto same = std::find_if(uses.begin(), uses.end(), [&](const Use& use) { return use.buffer == buffer; });
+    if (same == uses.end()) {
+      uses.push_back({buffer, bindings[i].reads, bindings[i].writes});
+    } else {
+      same->reads = same->reads || bindings[i].reads;
+      same->writes = same->writes || bindings[i].writes;
+    }
+  }
+  for (const Use& use : uses) memory_.use(*use.buffer, use.reads, use.writes);
+}
+
 void Stream::access(const Buffer& buffer, bool reads, bool writes) {
   const VkBuffer handle = buffer.handle();
   const bool readAfterWrite = reads && writtenSinceBarrier_.count(handle);
@@ -93,6 +137,8 @@ void Stream::dispatch(const Kernel& kernel, std::span<const Arg> args, const voi
   }
   if (groups[0] == 0 || groups[1] == 0 || groups[2] == 0) return;
   begin();
+  useBuffers(args, bindings);
+  const std::vector<Buffer*> snapshots = check_ ? snapshotWrites(args, bindings) : std::vector<Buffer*>{};
 
   // Barrier decisions first (a barrier clears the tracking sets), then this dispatch's own accesses.
   for (std::size_t i = 0; i < args.size(); ++i) access(*args[i].buffer, bindings[i].reads, bindings[i].writes);
@@ -119,7 +165,6 @@ void Stream::dispatch(const Kernel& kernel, std::span<const Arg> args, const voi
     }
     if (bindings[i].reads) readSinceBarrier_.insert(arg.buffer->handle());
     if (bindings[i].writes) writtenSinceBarrier_.insert(arg.buffer->handle());
-    keepAlive_.push_back(arg.buffer);
   }
 
   if (options_.profileDispatches) beginRegion(name);
@@ -132,6 +177,62 @@ void Stream::dispatch(const Kernel& kernel, std::span<const Arg> args, const voi
   vkCmdDispatch(commands_, groups[0], groups[1], groups[2]);
   if (options_.profileDispatches) endRegion();
   ++dispatches_;
+  if (check_) scanWrites(name, args, bindings, snapshots);
+}
+
+std::vector<Buffer*> Stream::snapshotWrites(std::span<const Arg> args, const std::vector<BindingInfo>& bindings) {
+  std::vector<Buffer*> snapshots(args.size(), nullptr);
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (!scanned(args[i], bindings[i])) continue;
+    const uint64_t bytes = scannedElements(args[i]) * sizeof(float);
+    Buffer& snapshot = check_->snapshot(i, bytes);
+    access(*args[i].buffer, true, false);
+    access(snapshot, false, true);
+    const VkBufferCopy region{0, 0, bytes};
+    vkCmdCopyBuffer(commands_, args[i].buffer->handle(), snapshot.handle(), 1, &region);
+    readSinceBarrier_.insert(args[i].buffer->handle());
+    writtenSinceBarrier_.insert(snapshot.handle());
+    snapshots[i] = &snapshot;
+  }
+  return snapshots;
+}
+
+void Stream::scanWrites(const std::string& shader, std::span<const Arg> args,
+                        const std::vector<BindingInfo>& bindings, const std::vector<Buffer*>& snapshots) {
+  const Kernel& scan = kernel(FiniteCheck::kShader);
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    if (!snapshots[i]) continue;
+    const Arg& arg = args[i];
+    const uint64_t elements = scannedElements(arg);
+    const FiniteCheck::Slot slot =
+        check_->add(shader, dispatches_, bindings[i], elements, arg.shape ? *arg.shape : Shape{});
+    if (slot.resetChunk) {
+      vkCmdFillBuffer(commands_, slot.report, 0, VK_WHOLE_SIZE, 0xFFFFFFFFu);
+      barrier();
+    }
+    access(*arg.buffer, true, false);
+    access(*snapshots[i], true, false);
+    VkBufferView views[2] = {arg.buffer->view(TexelFormat::Float4), snapshots[i]->view(TexelFormat::Float4)};
+    VkDescriptorBufferInfo report{slot.report, slot.offset, slot.range};
+    VkWriteDescriptorSet writes[3];
+    for (uint32_t binding = 0; binding < 3; ++binding) {
+      writes[binding] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+      writes[binding].dstBinding = binding;
+      writes[binding].descriptorCount = 1;
+      writes[binding].descriptorType =
+          binding < 2 ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      if (binding < 2) writes[binding].pTexelBufferView = &views[binding];
+    }
+    writes[2].pBufferInfo = &report;
+    const uint32_t n = static_cast<uint32_t>(elements);
+    const std::array<uint32_t, 3> groups = flatGroups((elements + 3) / 4, scan.key().workgroup[0]);
+    vkCmdBindPipeline(commands_, VK_PIPELINE_BIND_POINT_COMPUTE, scan.pipeline());
+    context_.cmdPushDescriptorSet()(commands_, VK_PIPELINE_BIND_POINT_COMPUTE, scan.layout(), 0, 3, writes);
+    vkCmdPushConstants(commands_, scan.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof n, &n);
+    vkCmdDispatch(commands_, groups[0], groups[1], groups[2]);
+    readSinceBarrier_.insert(arg.buffer->handle());
+    readSinceBarrier_.insert(snapshots[i]->handle());
+  }
 }
 
 void Stream::dispatchFlat(const Kernel& kernel, std::span<const Arg> args, const void* push, uint32_t pushBytes,
@@ -139,11 +240,7 @@ void Stream::dispatchFlat(const Kernel& kernel, std::span<const Arg> args, const
   const std::array<uint32_t, 3>& workgroup = kernel.key().workgroup;
   if (workgroup[1] != 1 || workgroup[2] != 1)
     throw Error("kernel '" + kernel.key().shader + "': dispatchFlat needs a workgroup of shape [x, 1, 1]");
-  const uint64_t groups = (invocations + workgroup[0] - 1) / workgroup[0];
-  const uint64_t width = std::min<uint64_t>(groups, 65535);
-  const uint64_t height = width == 0 ? 0 : (groups + width - 1) / width;
-  dispatch(kernel, args, push, pushBytes,
-           {static_cast<uint32_t>(width), static_cast<uint32_t>(std::max<uint64_t>(height, width ? 1 : 0)), 1});
+  dispatch(kernel, args, push, pushBytes, flatGroups(invocations, workgroup[0]));
 }
 
 void Stream::copy(const Tensor& source, const Tensor& destination) {
@@ -152,23 +249,24 @@ void Stream::copy(const Tensor& source, const Tensor& destination) {
                 ": element counts differ");
   if (source.numel() == 0) return;
   begin();
+  const bool inPlace = &source.buffer() == &destination.buffer();
+  memory_.use(source.buffer(), true, inPlace);
+  if (!inPlace) memory_.use(destination.buffer(), false, true);
   access(source.buffer(), true, false);
   access(destination.buffer(), false, true);
   VkBufferCopy region{0, 0, source.bytes()};
   vkCmdCopyBuffer(commands_, source.buffer().handle(), destination.buffer().handle(), 1, &region);
   readSinceBarrier_.insert(source.buffer().handle());
   writtenSinceBarrier_.insert(destination.buffer().handle());
-  keepAlive_.push_back(source.sharedBuffer());
-  keepAlive_.push_back(destination.sharedBuffer());
 }
 
 void Stream::fillZero(const Tensor& tensor) {
   if (tensor.numel() == 0) return;
   begin();
+  memory_.use(tensor.buffer(), false, true);
   access(tensor.buffer(), false, true);
   vkCmdFillBuffer(commands_, tensor.buffer().handle(), 0, tensor.bytes(), 0);
   writtenSinceBarrier_.insert(tensor.buffer().handle());
-  keepAlive_.push_back(tensor.sharedBuffer());
 }
 
 void Stream::beginRegion(std::string name) {
@@ -216,6 +314,7 @@ void Stream::submit() {
       times_.push_back({region.name, ticks * context_.info().timestampPeriodNs});
     }
   }
+  if (check_) check_->throwIfFound();
 }
 
 void Stream::reset() {
@@ -226,7 +325,8 @@ void Stream::reset() {
   barriers_ = 0;
   readSinceBarrier_.clear();
   writtenSinceBarrier_.clear();
-  keepAlive_.clear();
+  memory_.clear();
+  if (check_) check_->clear();
   regions_.clear();
   openRegions_.clear();
   queriesUsed_ = 0;

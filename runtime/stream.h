@@ -4,6 +4,10 @@
 // and inserts a memory barrier exactly where a dispatch would otherwise read a buffer written before it
 // (RAW) or write one read or written before it (WAR, WAW). Callers never write barriers.
 //
+// It holds the memory of every buffer its commands use until reset(), and backs tensors it creates later
+// with the memory of tensors that are gone (runtime/recording_memory.h). With SMOKESVD_CHECK=1 it scans
+// every buffer a dispatch writes for NaN and Inf (runtime/finite_check.h).
+//
 // Typical use:
 //   Stream stream(context);
 //   stream.dispatchFlat(kernel, {x, y}, Push{n}, n);
@@ -23,28 +27,42 @@
 
 #include "runtime/buffer.h"
 #include "runtime/kernel.h"
+#include "runtime/recording_memory.h"
 #include "runtime/tensor.h"
 
 namespace smokesvd {
 
 class Context;
+class FiniteCheck;
 
 // One argument of a dispatch, bound to the next binding number. Texel-buffer bindings read through a
 // float view unless the argument asks for vec4 texels (asVec4).
 struct Arg {
-  Arg(const Tensor& tensor) : buffer(tensor.sharedBuffer()), bytes(tensor.boundBytes()) {}  // NOLINT: implicit on purpose
+  Arg(const Tensor& tensor)  // NOLINT: implicit on purpose
+      : buffer(tensor.sharedBuffer()), bytes(tensor.boundBytes()), shape(&tensor.shape()) {}
   Arg(std::shared_ptr<Buffer> buffer_, uint64_t bytes_, TexelFormat format_ = TexelFormat::Float)
       : buffer(std::move(buffer_)), bytes(bytes_), format(format_) {}
   std::shared_ptr<Buffer> buffer;
   uint64_t bytes = 0;
   TexelFormat format = TexelFormat::Float;
+  const Shape* shape = nullptr;  // the tensor's, for the element index of a finite-check report
 };
 
-inline Arg asVec4(const Tensor& tensor) { return Arg(tensor.sharedBuffer(), tensor.boundBytes(), TexelFormat::Float4); }
+inline Arg asVec4(const Tensor& tensor) {
+  Arg arg(tensor);
+  arg.format = TexelFormat::Float4;
+  return arg;
+}
 
 struct StreamOptions {
   bool profileDispatches = false;  // time every dispatch as a region named after its shader
   uint32_t maxRegions = 4096;      // timestamp regions one recording can hold
+  // Back tensors created during the recording with the memory of its tensors that are gone
+  // (runtime/recording_memory.h). Off: every tensor the recording uses keeps its own memory.
+  bool reuseBuffers = true;
+  // Scan every buffer a dispatch writes for NaN/Inf; submit() throws at the first (runtime/finite_check.h).
+  // Also on for every stream when the context has ContextOptions::checkFinite (SMOKESVD_CHECK=1, --check).
+  bool checkFinite = false;
 };
 
 struct RegionTime {
@@ -96,13 +114,24 @@ class Stream {
   std::vector<RegionTime> regionTimes() const { return times_; }
   uint32_t dispatchCount() const { return dispatches_; }
   uint32_t barrierCount() const { return barriers_; }
+  // The memory the recording holds (all of it stays alive until reset()) and what reuse saved.
+  StreamMemory memory() const { return memory_.stats(); }
+  bool checksFinite() const { return check_ != nullptr; }
 
  private:
   void release();
   void begin();
+  // Holds the memory of each buffer the dispatch binds (which may re-back a fresh output, so before any
+  // barrier decision or descriptor is made).
+  void useBuffers(std::span<const Arg> args, const std::vector<BindingInfo>& bindings);
   // Emits a barrier if this access would race with one recorded since the last barrier.
   void access(const Buffer& buffer, bool reads, bool writes);
   void barrier();
+  // The finite check: copies of the float buffers a dispatch is about to write (null for the other
+  // arguments), then the scans of what it wrote.
+  std::vector<Buffer*> snapshotWrites(std::span<const Arg> args, const std::vector<BindingInfo>& bindings);
+  void scanWrites(const std::string& shader, std::span<const Arg> args, const std::vector<BindingInfo>& bindings,
+                  const std::vector<Buffer*>& snapshots);
 
   Context& context_;
   StreamOptions options_;
@@ -115,7 +144,8 @@ class Stream {
   uint32_t barriers_ = 0;
   std::unordered_set<VkBuffer> readSinceBarrier_;
   std::unordered_set<VkBuffer> writtenSinceBarrier_;
-  std::vector<std::shared_ptr<Buffer>> keepAlive_;
+  RecordingMemory memory_;
+  std::unique_ptr<FiniteCheck> check_;
   struct Region {
     std::string name;
     uint32_t beginQuery = 0;

@@ -65,7 +65,11 @@ void Tensor::upload(std::span<const float> values) const {
   if (static_cast<int64_t>(values.size()) != numel())
     throw Error("upload to tensor " + toString(shape_) + ": got " + std::to_string(values.size()) +
                 " values, expected " + std::to_string(numel()));
-  buffer_->write(values.data(), bytes());
+  try {
+    buffer_->write(values.data(), bytes());
+  } catch (const Error& error) {
+    throw Error("upload to tensor " + toString(shape_) + ": " + error.what());
+  }
 }
 
 std::vector<float> Tensor::download() const {

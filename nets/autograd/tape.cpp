@@ -51,10 +51,14 @@ void Tape::backward(const std::vector<std::pair<Var, Tensor>>& seeds) {
     if (!output->requiresGrad) throw Error("autograd: backward from a value that does not require a gradient");
     accumulate(output, seed);
   }
-  for (auto entry = entries_.rbegin(); entry != entries_.rend(); ++entry) {
-    const bool reached = std::any_of(entry->outputs.begin(), entry->outputs.end(),
+  // Each op is dropped once its backward is recorded: the activations its closure kept and the gradients
+  // only it read go with it, so a recording stream can reuse their memory for the ops still to come.
+  while (!entries_.empty()) {
+    Entry entry = std::move(entries_.back());
+    entries_.pop_back();
+    const bool reached = std::any_of(entry.outputs.begin(), entry.outputs.end(),
                                      [](const Var& output) { return output->grad.defined(); });
-    if (reached) entry->backward(*this);
+    if (reached) entry.backward(*this);
   }
 }
 

@@ -37,7 +37,8 @@ class Tape {
   // given tensor is never written: it becomes the gradient, or a fresh sum replaces the gradient.
   void accumulate(const Var& input, const Tensor& gradient);
 
-  // Runs recorded backwards in reverse order, seeding d loss / d loss = 1 everywhere in `loss`.
+  // Runs recorded backwards in reverse order, seeding d loss / d loss = 1 everywhere in `loss`, and
+  // forgets each op once its backward has run (the tape is empty afterwards).
   void backward(const Var& loss);
   // The same with given upstream gradients for any outputs.
   void backward(const std::vector<std::pair<Var, Tensor>>& seeds);

@@ -15,7 +15,7 @@ layout(binding = 1) uniform samplerBuffer field;
 layout(binding = 2) uniform samplerBuffer velocity;
 layout(std430, binding = 3) writeonly buffer FirstOrder { float firstOrder[]; };
 layout(std430, binding = 4) writeonly buffer Trace { vec4 trace[]; };
-layout(std430, binding = 5) writeonly buffer Bounds { vec4 bounds[]; };
+layout(std430, binding = 5) writeonly buffer BoundsNonFinite { vec4 bounds[]; };  // ±inf: an empty range
 
 void main() {
   const ivec3 c = invocationCell();

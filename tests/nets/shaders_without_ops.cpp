@@ -19,6 +19,9 @@ const std::vector<ShaderCoveredElsewhere>& shadersWithoutOps() {
       // the simulator's inflow sources
       {"physics/inflow_density", "tests/pipeline/physics/sources_test.cpp", "SourcesTest.DensityAndTemperatureInflowOfEveryShapeAndMode"},
       {"physics/inflow_velocity", "tests/pipeline/physics/sources_test.cpp", "SourcesTest.VelocityBlendsOverCoveredFaces"},
+      // the runtime's NaN/Inf guard
+      {"runtime/check_finite", "tests/runtime/finite_check_test.cpp",
+       "FiniteCheckTest.NamesTheShaderBindingAndElementOfAPlantedNan"},
       // tensor utilities
       {"tensor/copy", "tests/runtime/elementwise_test.cpp", "ElementwiseTest.CopyAddSubMulDiv"},
       {"tensor/count_items", "tests/runtime/flat_index_test.cpp", "FlatIndexTest.TwoRowDispatchVisitsEveryItemOnce"},

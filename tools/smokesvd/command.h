@@ -20,7 +20,15 @@ struct GlobalOptions {
   std::string device;       // --device N|NAME (else SMOKESVD_DEVICE, else the best device)
   bool validation = false;      // --validation
   bool noFloatAtomics = false;  // --no-float-atomics
-  ContextOptions contextOptions() const { return {device, validation, false, noFloatAtomics}; }
+  bool check = false;           // --check
+  ContextOptions contextOptions() const {
+    ContextOptions options;
+    options.device = device;
+    options.validation = validation;
+    options.emulateFloatAtomics = noFloatAtomics;
+    options.checkFinite = check;
+    return options;
+  }
 };
 
 using Action = std::function<void()>;

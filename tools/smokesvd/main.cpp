@@ -14,6 +14,9 @@ int main(int argc, char** argv) {
   app.add_flag("--validation", global.validation, "enable the Khronos validation layer (env SMOKESVD_VALIDATION=1)");
   app.add_flag("--no-float-atomics", global.noFloatAtomics,
                "scatter gradients with compare-and-swap loops, as on a device without float32 atomic add");
+  app.add_flag("--check", global.check,
+               "scan what every kernel writes for NaN/Inf and stop at the first, naming the shader, binding and "
+               "element (slow; env SMOKESVD_CHECK=1)");
   cli::Action action;
   for (const cli::Command& command : cli::commands()) command.add(app, global, action);
   try {
