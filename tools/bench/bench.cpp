@@ -29,11 +29,13 @@ Tensor filled(Context& context, const Shape& shape, float value) {
   return tensor;
 }
 
-double BenchContext::timeMedian(const std::function<void(Stream&)>& work) {
-  Stream stream(context_);
+double BenchContext::timeMedian(const std::function<void(Stream&)>& work, StreamOptions streamOptions,
+                                StreamMemory* memory) {
+  Stream stream(context_, streamOptions);
   stream.beginRegion("work");
   work(stream);
   stream.endRegion();
+  if (memory) *memory = stream.memory();
   const bool gpuTimes = context_.info().timestamps;
   std::vector<double> samples;
   for (int run = 0; run < options_.warmup + options_.runs; ++run) {
@@ -57,6 +59,24 @@ void BenchContext::measure(std::string name, std::string shape, double bytes, do
   measurement.flops = flops;
   measurement.runs = options_.runs;
   measurement.medianNs = timeMedian(work);
+  results_.push_back(std::move(measurement));
+}
+
+void BenchContext::measureStep(std::string name, std::string shape, double flops, StreamOptions streamOptions,
+                               const std::function<void(Stream&)>& work) {
+  BufferPool& pool = context_.buffers();
+  pool.trim();
+  pool.resetPeaks();
+  Measurement measurement;
+  measurement.name = std::move(name);
+  measurement.shape = std::move(shape);
+  measurement.flops = flops;
+  measurement.runs = options_.runs;
+  StreamMemory memory;
+  measurement.medianNs = timeMedian(work, streamOptions, &memory);
+  measurement.heldBytes = memory.heldBytes;
+  measurement.heldBytesWithoutReuse = memory.bytesWithoutReuse();
+  measurement.poolPeakBytes = pool.stats().peakAllocatedBytes;
   results_.push_back(std::move(measurement));
 }
 

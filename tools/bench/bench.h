@@ -22,6 +22,11 @@ struct Measurement {
   double bytes = 0;        // bytes read + written by one run (0 if not memory-bound)
   double flops = 0;        // floating-point operations of one run (0 if not compute-bound)
   int runs = 0;
+  // Training steps (BenchContext::measureStep): the memory the recording holds (Stream::memory), what it
+  // would hold without buffer reuse, and the pool's high-water mark while it was recorded and run.
+  uint64_t heldBytes = 0;
+  uint64_t heldBytesWithoutReuse = 0;
+  uint64_t poolPeakBytes = 0;
   double gbPerSecond() const { return bytes > 0 ? bytes / medianNs : 0; }
   double gflopPerSecond() const { return flops > 0 ? flops / medianNs : 0; }
 };
@@ -35,11 +40,17 @@ class BenchContext {
  public:
   BenchContext(Context& context, BenchOptions options) : context_(context), options_(options) {}
   Context& context() { return context_; }
-  // Records `work` once, runs it options.warmup + options.runs times, returns the median GPU time (ns).
-  double timeMedian(const std::function<void(Stream&)>& work);
+  // Records `work` once into a stream with `streamOptions`, runs it options.warmup + options.runs times,
+  // returns the median GPU time (ns); `memory` receives what the recording held, if given.
+  double timeMedian(const std::function<void(Stream&)>& work, StreamOptions streamOptions = {},
+                    StreamMemory* memory = nullptr);
   // Times `work` and adds a measurement.
   void measure(std::string name, std::string shape, double bytes, double flops,
                const std::function<void(Stream&)>& work);
+  // Times a training step and adds a measurement with its memory figures. Idle pool buffers are freed
+  // first, so the pool's peak is the device memory this step needs with everything it keeps alive.
+  void measureStep(std::string name, std::string shape, double flops, StreamOptions streamOptions,
+                   const std::function<void(Stream&)>& work);
   void add(Measurement measurement) { results_.push_back(std::move(measurement)); }
   const std::vector<Measurement>& results() const { return results_; }
 

@@ -4,6 +4,8 @@
 // as a percentage of its reference, which stays comparable across machines and moments. With --passes N
 // the whole selection runs N times and every figure (the references too) keeps its best pass: on a
 // shared machine whose speed drifts from minute to minute, that is the figure of its quiet moments.
+// Training-step benchmarks also report their memory: what the recording holds, with and without buffer
+// reuse, and the pool's peak (docs/runtime.md, "Memory within a recording").
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
@@ -46,6 +48,23 @@ void printTable(const std::vector<bench::Measurement>& results, const bench::Dev
   }
 }
 
+double mebibytes(uint64_t bytes) { return static_cast<double>(bytes) / (1 << 20); }
+
+// The memory of the training steps (BenchContext::measureStep), after the tables.
+void printMemory(const std::vector<std::vector<bench::Measurement>>& groups) {
+  bool header = false;
+  for (const std::vector<bench::Measurement>& group : groups) {
+    for (const bench::Measurement& m : group) {
+      if (m.heldBytes == 0) continue;
+      if (!header) std::printf("\n%-36s %14s %16s %14s\n", "memory of a recorded step", "held", "without reuse",
+                               "pool peak");
+      header = true;
+      std::printf("%-36s %10.1f MiB %12.1f MiB %10.1f MiB\n", m.name.c_str(), mebibytes(m.heldBytes),
+                  mebibytes(m.heldBytesWithoutReuse), mebibytes(m.poolPeakBytes));
+    }
+  }
+}
+
 struct Results {
   std::vector<std::vector<bench::Measurement>> groups;  // one per benchmark, in order
   bench::DeviceReference reference;                     // the best reading of each
@@ -85,12 +104,19 @@ void printJson(const Context& context, const Results& results) {
   const bench::DeviceReference& reference = results.reference;
   nlohmann::json list = nlohmann::json::array();
   for (const std::vector<bench::Measurement>& group : results.groups)
-    for (const bench::Measurement& m : group)
-      list.push_back({{"kernel", m.name}, {"shape", m.shape}, {"median_ns", m.medianNs}, {"runs", m.runs},
-                      {"bytes", m.bytes}, {"flops", m.flops}, {"gb_per_s", m.gbPerSecond()},
-                      {"gflop_per_s", m.gflopPerSecond()},
-                      {"percent_of_copy", percent(m.gbPerSecond(), reference.bandwidthGbps)},
-                      {"percent_of_peak", percent(m.gflopPerSecond(), reference.peakGflops)}});
+    for (const bench::Measurement& m : group) {
+      nlohmann::json entry{{"kernel", m.name}, {"shape", m.shape}, {"median_ns", m.medianNs}, {"runs", m.runs},
+                           {"bytes", m.bytes}, {"flops", m.flops}, {"gb_per_s", m.gbPerSecond()},
+                           {"gflop_per_s", m.gflopPerSecond()},
+                           {"percent_of_copy", percent(m.gbPerSecond(), reference.bandwidthGbps)},
+                           {"percent_of_peak", percent(m.gflopPerSecond(), reference.peakGflops)}};
+      if (m.heldBytes > 0) {
+        entry["held_bytes"] = m.heldBytes;
+        entry["held_bytes_without_reuse"] = m.heldBytesWithoutReuse;
+        entry["pool_peak_bytes"] = m.poolPeakBytes;
+      }
+      list.push_back(std::move(entry));
+    }
   std::cout << nlohmann::json{{"device", context.info().name}, {"driver", context.info().driver},
                               {"device_type", context.info().typeName()},
                               {"reference", {{"peak_gflop_per_s", reference.peakGflops},
@@ -134,6 +160,7 @@ void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action)
                     results.reference.peakGflops, results.reference.bandwidthGbps);
       if (args.passes > 1) std::printf("each figure is the best of %d passes\n", args.passes);
       for (const std::vector<bench::Measurement>& group : results.groups) printTable(group, results.reference);
+      printMemory(results.groups);
     };
   });
 }
