@@ -41,16 +41,24 @@ std::string frameName(int frame) {
   return name;
 }
 
-void writeFrameFields(const fs::path& directory, const Simulator& simulator) {
-  const GridSize& grid = simulator.grid();
-  const std::string frame = frameName(simulator.frame() - 1);
+void writeFields(const fs::path& directory, int frame, const GridSize& grid, const std::vector<float>& density,
+                 const std::vector<float>& velocity, const std::vector<float>& inflow) {
+  const std::string name = frameName(frame);
   const fs::path fields = directory / "fields";
   fs::create_directories(fields);
-  io::writeNpz(fields / ("density_" + frame + ".npz"), {{"density", volumeArray(grid, simulator.density().download())}});
-  io::writeNpz(fields / ("velocity_" + frame + ".npz"), {{"velocity", vectorArray(grid, simulator.velocity().download())}});
-  io::writeNpz(fields / ("inflow_" + frame + ".npz"), {{"inflow", volumeArray(grid, simulator.inflow().download())}});
+  io::writeNpz(fields / ("density_" + name + ".npz"), {{"density", volumeArray(grid, density)}});
+  io::writeNpz(fields / ("velocity_" + name + ".npz"), {{"velocity", vectorArray(grid, velocity)}});
+  io::writeNpz(fields / ("inflow_" + name + ".npz"), {{"inflow", volumeArray(grid, inflow)}});
+}
+
+void writeFrameFields(const fs::path& directory, const Simulator& simulator) {
+  const GridSize& grid = simulator.grid();
+  const int frame = simulator.frame() - 1;
+  writeFields(directory, frame, grid, simulator.density().download(), simulator.velocity().download(),
+              simulator.inflow().download());
   if (const Tensor* temperature = simulator.temperature())
-    io::writeNpz(fields / ("temperature_" + frame + ".npz"), {{"temperature", volumeArray(grid, temperature->download())}});
+    io::writeNpz(directory / "fields" / ("temperature_" + frameName(frame) + ".npz"),
+                 {{"temperature", volumeArray(grid, temperature->download())}});
 }
 
 void writeFlags(const fs::path& directory, const Simulator& simulator) {

@@ -22,6 +22,10 @@ std::string frameName(int frame);  // "0042"
 
 // Writes the fields of the simulator's last completed frame (frame() − 1).
 void writeFrameFields(const std::filesystem::path& directory, const Simulator& simulator);
+// Writes the density, velocity and inflow files of `frame` from host values: density and inflow [D, H, W],
+// velocity planar MAC [3, D, H, W].
+void writeFields(const std::filesystem::path& directory, int frame, const GridSize& grid, const std::vector<float>& density,
+                 const std::vector<float>& velocity, const std::vector<float>& inflow);
 void writeFlags(const std::filesystem::path& directory, const Simulator& simulator);
 
 // Checkpoint of the simulator after its last completed frame.

@@ -29,6 +29,13 @@ Tensor loadForceField(Context& context, const ForceField& field, const GridSize&
   return planar;
 }
 
+// 1 where the flag has one of `bits`, else 0.
+std::vector<float> flagMask(const std::vector<float>& flags, uint32_t bits) {
+  std::vector<float> mask(flags.size());
+  for (std::size_t i = 0; i < flags.size(); ++i) mask[i] = (static_cast<uint32_t>(flags[i]) & bits) != 0 ? 1.0f : 0.0f;
+  return mask;
+}
+
 }  // namespace
 
 Simulator::Simulator(Context& context, const Scene& scene)
@@ -37,7 +44,10 @@ Simulator::Simulator(Context& context, const Scene& scene)
       grid_(scene.resolution),
       sources_(context, static_cast<int>(std::max<std::size_t>(scene.sources.size(), 1))) {
   const Shape volume = grid_.volume(), vector = grid_.vector();
-  flags_ = Tensor::fromHost(context, volume, sceneFlags(scene_, 0));
+  const std::vector<float> flags = sceneFlags(scene_, 0);
+  flags_ = Tensor::fromHost(context, volume, flags);
+  openMask_ = Tensor::fromHost(context, volume, flagMask(flags, physics::kFluid | physics::kEmpty));
+  fluidMask_ = Tensor::fromHost(context, volume, flagMask(flags, physics::kFluid));
   density_ = Tensor(context, volume);
   densityNext_ = Tensor(context, volume);
   densityInflow_ = Tensor(context, volume);
@@ -105,7 +115,10 @@ physics::Buoyancy Simulator::buoyancyAt(double time) const {
 }
 
 void Simulator::updateFlags(int frame) {
-  flags_.upload(sceneFlags(scene_, frame));
+  const std::vector<float> flags = sceneFlags(scene_, frame);
+  flags_.upload(flags);
+  openMask_.upload(flagMask(flags, physics::kFluid | physics::kEmpty));
+  fluidMask_.upload(flagMask(flags, physics::kFluid));
   solver_->setFlags(flags_);
   Stream stream(context_);
   flagGrid_ = std::make_unique<physics::FlagGrid>(stream, flags_);
@@ -123,6 +136,10 @@ physics::PressureReport Simulator::step(int substep) {
   Stream stream(context_);
   physics::inflowFields(stream, flags_, density_, heat ? &temperature_ : nullptr, sources_, dt, densityInflow_,
                         heat ? &temperatureInflow_ : nullptr);
+  if (externalInflow_.defined()) {
+    ops::mul(stream, externalInflow_, fluidMask_, densityNext_);
+    ops::axpy(stream, 1.0f / static_cast<float>(scene_.stepsPerFrame), densityNext_, densityInflow_);
+  }
   physics::advect(stream, *flagGrid_, density_, velocity_, &densityInflow_, advection, densityNext_);
   if (heat) physics::advect(stream, *flagGrid_, temperature_, velocity_, &temperatureInflow_, advection, temperatureNext_);
   // The velocity passes between two scratch fields; `current` is the latest.
@@ -143,6 +160,7 @@ physics::PressureReport Simulator::step(int substep) {
     physics::addForceField(stream, flags_, forceFields_[f], velocityScratch_[current], dt, next());
     current = 1 - current;
   }
+  if (externalForce_.defined()) ops::axpy(stream, dt, externalForce_, velocityScratch_[current]);
   physics::applySourceVelocity(stream, flags_, sources_, velocityScratch_[current]);
   if (substep == 0) stream.copy(densityInflow_, frameInflow_);
   else ops::add(stream, frameInflow_, densityInflow_, frameInflow_);
@@ -153,8 +171,33 @@ physics::PressureReport Simulator::step(int substep) {
   return solver_->project(velocityScratch_[current], velocity_);
 }
 
+void Simulator::setExternalInflow(Tensor inflow) {
+  if (inflow.defined()) physics::requireVolume(inflow, grid_, "simulator: external inflow");
+  externalInflow_ = std::move(inflow);
+}
+
+void Simulator::setExternalForce(Tensor acceleration) {
+  if (acceleration.defined()) physics::requireVector(acceleration, grid_, "simulator: external force");
+  externalForce_ = std::move(acceleration);
+}
+
+physics::PressureReport Simulator::enforceDomain() {
+  {
+    Stream stream(context_);
+    ops::mul(stream, density_, openMask_, density_);
+    if (temperature_.defined()) ops::mul(stream, temperature_, openMask_, temperature_);
+    stream.submit();
+  }
+  const physics::PressureReport report = solver_->project(velocity_, velocityScratch_[0]);
+  std::swap(velocity_, velocityScratch_[0]);
+  return report;
+}
+
 FrameReport Simulator::advanceFrame() {
-  if (obstaclesChangeAt(scene_, frame_)) updateFlags(frame_);
+  if (obstaclesChangeAt(scene_, frame_)) {
+    updateFlags(frame_);
+    enforceDomain();
+  }
   FrameReport report;
   report.frame = frame_;
   for (int substep = 0; substep < scene_.stepsPerFrame; ++substep) {

@@ -105,14 +105,13 @@ std::vector<std::string> differences(const fs::path& a, const fs::path& b) {
 class SimulatorTest : public GpuTest {};
 
 TEST_F(SimulatorTest, SavedFramesObeyTheAdvectionRelation) {
-  const sim::Scene scene = plumeScene(4);
+  const sim::Scene scene = plumeScene(5);
   sim::Simulator simulator(context(), scene);
-  simulator.advanceFrame();
-  simulator.advanceFrame();
+  for (int f = 0; f < 3; ++f) simulator.advanceFrame();
   const std::vector<float> density = simulator.density().download(), velocity = simulator.velocity().download();
   simulator.advanceFrame();
-  // density[2] = A(density[1], velocity[1]) + inflow[2], with the flags of frame 2.
-  Tensor flags = Tensor::fromHost(context(), simulator.grid().volume(), sim::sceneFlags(scene, 2));
+  // density[3] = A(density[2], velocity[2]) + inflow[3], with the flags of frame 3.
+  Tensor flags = Tensor::fromHost(context(), simulator.grid().volume(), sim::sceneFlags(scene, 3));
   Tensor d = Tensor::fromHost(context(), simulator.grid().volume(), density);
   Tensor u = Tensor::fromHost(context(), simulator.grid().vector(), velocity);
   Tensor expected(context(), simulator.grid().volume());
@@ -121,6 +120,26 @@ TEST_F(SimulatorTest, SavedFramesObeyTheAdvectionRelation) {
   physics::advect(stream, flagGrid, d, u, &simulator.inflow(), {scene.advection, 1.0f, 1.0f}, expected);
   stream.submit();
   EXPECT_TRUE(allClose(simulator.density(), expected.download(), {0, 0}));
+}
+
+TEST_F(SimulatorTest, AnObstacleThatAppearsInTheSmokeHoldsNoDensity) {
+  sim::Scene scene = plumeScene(7);
+  scene.obstacles[0].shape.centre = {7.5, 6.5, 6.5};  // just above the sphere source, inside its plume
+  scene.obstacles[0].frames = {3, -1};
+  const std::vector<float> flags = sim::sceneFlags(scene, 3), before = sim::sceneFlags(scene, 0);
+  sim::Simulator simulator(context(), scene);
+  for (int f = 0; f < scene.frames; ++f) {
+    simulator.advanceFrame();
+    const std::vector<float> density = simulator.density().download();
+    double inside = 0;
+    for (std::size_t i = 0; i < flags.size(); ++i)
+      if (flags[i] != before[i]) inside += density[i];
+    if (f == 2) {
+      EXPECT_GT(inside, 0.1) << "the smoke should fill the obstacle's place before it appears";
+    } else if (f >= 3) {
+      EXPECT_EQ(inside, 0.0) << "frame " << f;
+    }
+  }
 }
 
 TEST_F(SimulatorTest, APlumeRisesAndStaysDivergenceFree) {
