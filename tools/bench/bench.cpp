@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
+
+#include <sys/resource.h>
 
 #include "nets/ops/elementwise.h"
 #include "runtime/error.h"
@@ -29,25 +32,74 @@ Tensor filled(Context& context, const Shape& shape, float value) {
   return tensor;
 }
 
-double BenchContext::timeMedian(const std::function<void(Stream&)>& work, StreamOptions streamOptions,
-                                StreamMemory* memory) {
+namespace {
+
+// CPU time of the whole process (every thread) so far, in nanoseconds.
+double processCpuNs() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  auto ns = [](const timeval& t) { return (static_cast<double>(t.tv_sec) * 1e6 + static_cast<double>(t.tv_usec)) * 1e3; };
+  return ns(usage.ru_utime) + ns(usage.ru_stime);
+}
+
+constexpr int kProfileRuns = 3;
+
+double median(std::vector<double> samples) {
+  std::nth_element(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() / 2), samples.end());
+  return samples[samples.size() / 2];
+}
+
+}  // namespace
+
+BenchContext::Times BenchContext::time(const std::function<void(Stream&)>& work, StreamOptions streamOptions,
+                                       StreamMemory* memory) {
   Stream stream(context_, streamOptions);
   stream.beginRegion("work");
   work(stream);
   stream.endRegion();
   if (memory) *memory = stream.memory();
   const bool gpuTimes = context_.info().timestamps;
-  std::vector<double> samples;
+  std::vector<double> samples, cpu;
   for (int run = 0; run < options_.warmup + options_.runs; ++run) {
+    const double cpuStart = processCpuNs();
     const auto start = std::chrono::steady_clock::now();
     stream.submit();
     const auto stop = std::chrono::steady_clock::now();
+    const double cpuStop = processCpuNs();
     if (run < options_.warmup) continue;
     samples.push_back(gpuTimes ? stream.regionTimes().at(0).nanoseconds
                                : std::chrono::duration<double, std::nano>(stop - start).count());
+    cpu.push_back(cpuStop - cpuStart);
   }
-  std::nth_element(samples.begin(), samples.begin() + static_cast<std::ptrdiff_t>(samples.size() / 2), samples.end());
-  return samples[samples.size() / 2];
+  return {median(samples), median(cpu)};
+}
+
+std::vector<ProfileLine> BenchContext::profile(const std::function<void(Stream&)>& work, StreamOptions streamOptions) {
+  streamOptions.profileDispatches = true;
+  streamOptions.maxRegions = 1 << 16;
+  Stream stream(context_, streamOptions);
+  work(stream);
+  stream.submit();
+  // Each dispatch keeps its fastest of a few runs: on a shared machine one run's dispatches are each
+  // delayed by whatever else ran at that moment.
+  std::vector<RegionTime> fastest;
+  for (int run = 0; run < kProfileRuns; ++run) {
+    stream.submit();
+    const std::vector<RegionTime> times = stream.regionTimes();
+    if (fastest.empty()) fastest = times;
+    for (std::size_t i = 0; i < times.size(); ++i) fastest[i].nanoseconds = std::min(fastest[i].nanoseconds, times[i].nanoseconds);
+  }
+  std::map<std::string, ProfileLine> byShader;
+  for (const RegionTime& region : fastest) {
+    ProfileLine& line = byShader[region.name];
+    line.shader = region.name;
+    line.nanoseconds += region.nanoseconds;
+    ++line.dispatches;
+  }
+  std::vector<ProfileLine> lines;
+  for (auto& [name, line] : byShader) lines.push_back(std::move(line));
+  std::sort(lines.begin(), lines.end(), [](const ProfileLine& a, const ProfileLine& b) { return a.nanoseconds > b.nanoseconds; });
+  return lines;
 }
 
 void BenchContext::measure(std::string name, std::string shape, double bytes, double flops,
@@ -58,7 +110,10 @@ void BenchContext::measure(std::string name, std::string shape, double bytes, do
   measurement.bytes = bytes;
   measurement.flops = flops;
   measurement.runs = options_.runs;
-  measurement.medianNs = timeMedian(work);
+  const Times times = time(work);
+  measurement.medianNs = times.gpuNs;
+  measurement.medianCpuNs = times.cpuNs;
+  if (options_.profile) measurement.profile = profile(work);
   results_.push_back(std::move(measurement));
 }
 
@@ -73,10 +128,13 @@ void BenchContext::measureStep(std::string name, std::string shape, double flops
   measurement.flops = flops;
   measurement.runs = options_.runs;
   StreamMemory memory;
-  measurement.medianNs = timeMedian(work, streamOptions, &memory);
+  const Times times = time(work, streamOptions, &memory);
+  measurement.medianNs = times.gpuNs;
+  measurement.medianCpuNs = times.cpuNs;
   measurement.heldBytes = memory.heldBytes;
   measurement.heldBytesWithoutReuse = memory.bytesWithoutReuse();
   measurement.poolPeakBytes = pool.stats().peakAllocatedBytes;
+  if (options_.profile) measurement.profile = profile(work, streamOptions);
   results_.push_back(std::move(measurement));
 }
 

@@ -15,10 +15,20 @@
 
 namespace smokesvd::bench {
 
+// Where the time of one measurement goes (`--profile`): each shader's total over one run of the
+// recording, timed per dispatch.
+struct ProfileLine {
+  std::string shader;
+  double nanoseconds = 0;
+  int dispatches = 0;
+};
+
 struct Measurement {
   std::string name;        // e.g. "copy/texel"
   std::string shape;       // what was run, e.g. "[16777216]" or "3x3 64->64 @ 64x64"
   double medianNs = 0;     // median GPU time of one run
+  double medianCpuNs = 0;  // median CPU time the process spent during one run (every thread; on a CPU
+                           // device the work itself, whatever other processes take of the cores)
   double bytes = 0;        // bytes read + written by one run (0 if not memory-bound)
   double flops = 0;        // floating-point operations of one run (0 if not compute-bound)
   int runs = 0;
@@ -27,31 +37,48 @@ struct Measurement {
   uint64_t heldBytes = 0;
   uint64_t heldBytesWithoutReuse = 0;
   uint64_t poolPeakBytes = 0;
-  double gbPerSecond() const { return bytes > 0 ? bytes / medianNs : 0; }
-  double gflopPerSecond() const { return flops > 0 ? flops / medianNs : 0; }
+  std::vector<ProfileLine> profile;  // slowest shaders first (with --profile)
+  double gbPerSecond() const { return bytes > 0 && medianNs > 0 ? bytes / medianNs : 0; }
+  double gflopPerSecond() const { return flops > 0 && medianNs > 0 ? flops / medianNs : 0; }
+  double gflopPerCpuSecond() const { return flops > 0 && medianCpuNs > 0 ? flops / medianCpuNs : 0; }
 };
 
 struct BenchOptions {
   int warmup = 3;
   int runs = 15;
+  bool profile = false;  // also run each recording once timed per dispatch (Measurement::profile)
 };
 
 class BenchContext {
  public:
   BenchContext(Context& context, BenchOptions options) : context_(context), options_(options) {}
   Context& context() { return context_; }
+  struct Times {
+    double gpuNs = 0, cpuNs = 0;
+  };
   // Records `work` once into a stream with `streamOptions`, runs it options.warmup + options.runs times,
-  // returns the median GPU time (ns); `memory` receives what the recording held, if given.
+  // returns the median GPU time and the median CPU time of the process per run (ns); `memory` receives
+  // what the recording held, if given.
+  Times time(const std::function<void(Stream&)>& work, StreamOptions streamOptions = {},
+             StreamMemory* memory = nullptr);
   double timeMedian(const std::function<void(Stream&)>& work, StreamOptions streamOptions = {},
-                    StreamMemory* memory = nullptr);
-  // Times `work` and adds a measurement.
+                    StreamMemory* memory = nullptr) {
+    return time(work, streamOptions, memory).gpuNs;
+  }
+  // Times `work` and adds a measurement (with its profile when options.profile is set).
   void measure(std::string name, std::string shape, double bytes, double flops,
                const std::function<void(Stream&)>& work);
   // Times a training step and adds a measurement with its memory figures. Idle pool buffers are freed
   // first, so the pool's peak is the device memory this step needs with everything it keeps alive.
   void measureStep(std::string name, std::string shape, double flops, StreamOptions streamOptions,
                    const std::function<void(Stream&)>& work);
+  // Records `work` once with a timestamp around every dispatch, runs it a few times after a warm-up and
+  // returns the time per shader, each dispatch at its fastest run.
+  std::vector<ProfileLine> profile(const std::function<void(Stream&)>& work, StreamOptions streamOptions = {});
+  const BenchOptions& options() const { return options_; }
+  void setOptions(BenchOptions options) { options_ = options; }
   void add(Measurement measurement) { results_.push_back(std::move(measurement)); }
+  Measurement& last() { return results_.back(); }
   const std::vector<Measurement>& results() const { return results_; }
 
  private:
@@ -71,6 +98,9 @@ struct Benchmark {
 struct DeviceReference {
   double peakGflops = 0;     // loop-FMA peak (peak/fma-loop)
   double bandwidthGbps = 0;  // the faster of the two kernel copies (copy/texel-read, copy/storage-read)
+  // On a CPU device, the loop-FMA kernel's GFLOP per CPU-second of the process (0 on other devices): the
+  // ceiling of a core, which the machine's other work does not lower as it lowers the wall-clock figures.
+  double peakGflopsPerCpuSecond = 0;
 };
 DeviceReference measureDeviceReference(Context& context, BenchOptions options);
 

@@ -3,6 +3,7 @@
 // 2*N*Cout*Cin*k^d*outputs FLOPs (transposed: *inputs). The conv-blocking group times the register
 // blockings side by side.
 #include <string>
+#include <vector>
 
 #include "nets/ops/conv.h"
 #include "nets/ops/elementwise.h"
@@ -71,6 +72,21 @@ const ConvShape kTranspose2d{"conv-transpose2d", "2x2 s2 64->32 @ 32x32", {1, 64
 const ConvShape kTranspose3d{"conv-transpose3d", "2x2x2 s2 32->16 @ 16^3", {1, 32, 16, 16, 16}, {32, 16, 2, 2, 2},
                              {2, 0}};
 
+// The convolutions of the small G_rho (32x56x32 volumes; docs/benchmarks.md, train benchmarks): the stem,
+// the 3x3x3 convolutions of a bottleneck at 12 and at 4 channels, its 1x1x1 convolutions and the stride-2
+// pair of a down-sampling block.
+const std::vector<ConvShape> kNetworkShapes{
+    {"conv-net/stem", "3x3x3 16->12 @ 32x56x32", {1, 16, 32, 56, 32}, {12, 16, 3, 3, 3}, {1, 1}},
+    {"conv-net/3x3x3-12", "3x3x3 12->12 @ 32x56x32", {1, 12, 32, 56, 32}, {12, 12, 3, 3, 3}, {1, 1}},
+    {"conv-net/3x3x3-4", "3x3x3 4->4 @ 32x56x32", {1, 4, 32, 56, 32}, {4, 4, 3, 3, 3}, {1, 1}},
+    {"conv-net/1x1x1-48", "1x1x1 48->48 @ 32x56x32", {1, 48, 32, 56, 32}, {48, 48, 1, 1, 1}, {1, 0}},
+    {"conv-net/1x1x1-48-12", "1x1x1 48->12 @ 32x56x32", {1, 48, 32, 56, 32}, {12, 48, 1, 1, 1}, {1, 0}},
+    {"conv-net/1x1x1-12-48", "1x1x1 12->48 @ 32x56x32", {1, 12, 32, 56, 32}, {48, 12, 1, 1, 1}, {1, 0}},
+    {"conv-net/1x1x1-48-1", "1x1x1 48->1 @ 32x56x32", {1, 48, 32, 56, 32}, {1, 48, 1, 1, 1}, {1, 0}},
+    {"conv-net/2x2x2-s2", "2x2x2 s2 12->24 @ 32x56x32", {1, 12, 32, 56, 32}, {24, 12, 2, 2, 2}, {2, 0}},
+    {"conv-net/3x3x3-s2", "3x3x3 s2 6->6 @ 32x56x32", {1, 6, 32, 56, 32}, {6, 6, 3, 3, 3}, {2, 1}},
+};
+
 void blockings(BenchContext& b) {
   for (const ConvShape* c : {&kConv2d, &kConv3d32}) {
     const Operands o = operands(b.context(), *c);
@@ -93,7 +109,10 @@ const bool registered =
     registerBenchmark({"conv/3d-3x3x3-16", [](BenchContext& b) { passes(b, kConv3d16, "conv3d", {}); }}) &&
     registerBenchmark({"conv/transpose2d-2x2", [](BenchContext& b) { transposedPasses(b, kTranspose2d); }}) &&
     registerBenchmark({"conv/transpose3d-2x2x2", [](BenchContext& b) { transposedPasses(b, kTranspose3d); }}) &&
-    registerBenchmark({"conv-blocking/sweep", blockings});
+    registerBenchmark({"conv-blocking/sweep", blockings}) &&
+    registerBenchmark({"conv-net/grho-small", [](BenchContext& b) {
+                         for (const ConvShape& c : kNetworkShapes) passes(b, c, c.name, {});
+                       }});
 
 }  // namespace
 }  // namespace smokesvd::bench

@@ -38,6 +38,24 @@ std::string figure(double value, const char* format = "%.2f") {
 
 double percent(double value, double reference) { return reference > 0 ? 100.0 * value / reference : 0; }
 
+// Each measurement's time per shader, slowest first, as a share of the profiled run (--profile).
+void printProfiles(const std::vector<bench::Measurement>& results) {
+  for (const bench::Measurement& m : results) {
+    if (m.profile.empty()) continue;
+    double total = 0;
+    int dispatches = 0;
+    for (const bench::ProfileLine& line : m.profile) {
+      total += line.nanoseconds;
+      dispatches += line.dispatches;
+    }
+    std::printf("profile of %s: %d dispatches, %.1f us in them (a timed run: %.1f us, CPU %.1f us)\n", m.name.c_str(),
+                dispatches, total / 1000.0, m.medianNs / 1000.0, m.medianCpuNs / 1000.0);
+    for (const bench::ProfileLine& line : m.profile)
+      std::printf("  %-40s %12.1f us %6d %6.1f %%\n", line.shader.c_str(), line.nanoseconds / 1000.0, line.dispatches,
+                  percent(line.nanoseconds, total));
+  }
+}
+
 void printTable(const std::vector<bench::Measurement>& results, const bench::DeviceReference& reference) {
   std::printf("%-36s %-36s %12s %9s %6s %9s %6s\n", "kernel", "shape", "median", "GB/s", "%copy", "GFLOP/s", "%peak");
   for (const bench::Measurement& m : results) {
@@ -105,7 +123,8 @@ void printJson(const Context& context, const Results& results) {
   nlohmann::json list = nlohmann::json::array();
   for (const std::vector<bench::Measurement>& group : results.groups)
     for (const bench::Measurement& m : group) {
-      nlohmann::json entry{{"kernel", m.name}, {"shape", m.shape}, {"median_ns", m.medianNs}, {"runs", m.runs},
+      nlohmann::json entry{{"kernel", m.name}, {"shape", m.shape}, {"median_ns", m.medianNs},
+                           {"median_cpu_ns", m.medianCpuNs}, {"runs", m.runs},
                            {"bytes", m.bytes}, {"flops", m.flops}, {"gb_per_s", m.gbPerSecond()},
                            {"gflop_per_s", m.gflopPerSecond()},
                            {"percent_of_copy", percent(m.gbPerSecond(), reference.bandwidthGbps)},
@@ -136,6 +155,8 @@ void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action)
   command->add_option("--warmup", args.options.warmup, "untimed runs before timing")->check(CLI::NonNegativeNumber);
   command->add_option("--passes", args.passes, "run everything this many times and keep each figure's best pass")
       ->check(CLI::PositiveNumber);
+  command->add_flag("--profile", args.options.profile,
+                    "also time every dispatch of each recording once and print each shader's share");
   command->add_flag("!--no-reference", args.reference,
                     "skip measuring the reference figures (loop-FMA peak, copy bandwidth) and the % columns");
   command->callback([&global, &action] {
@@ -161,6 +182,7 @@ void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action)
       if (args.passes > 1) std::printf("each figure is the best of %d passes\n", args.passes);
       for (const std::vector<bench::Measurement>& group : results.groups) printTable(group, results.reference);
       printMemory(results.groups);
+      for (const std::vector<bench::Measurement>& group : results.groups) printProfiles(group);
     };
   });
 }
