@@ -10,6 +10,12 @@
 
 namespace smokesvd {
 
+// Loop iterations one shader invocation may run in all, on every device: llvmpipe (lavapipe) ends the
+// loops of an invocation after 65535 iterations, counted over every loop of it together, and silently
+// (gallivm's LP_MAX_TGSI_LOOP_ITERATIONS). Kernels whose invocations loop over a share of the work that
+// grows with the problem split it so that no share passes this budget (half the limit; docs/runtime.md).
+constexpr uint64_t kLoopIterationBudget = 32768;
+
 struct DeviceInfo {
   uint32_t index = 0;                 // position in vkEnumeratePhysicalDevices
   std::string name;

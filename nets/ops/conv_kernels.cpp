@@ -178,7 +178,11 @@ void weightGrad(Stream& stream, const ConvGeometry& g, const Padded& xp, const T
   const int64_t rows = g.batch * g.output[0] * g.output[1];
   const int64_t lanes = g.inChannels * g.kernel[0];
   const int64_t baseInvocations = roundUp(lanes, kWeightGradWorkgroup) * kBlocks;
-  const int64_t wantedChunks = std::clamp<int64_t>(kWeightGradInvocations / baseInvocations, 1, rows);
+  // At least enough chunks that no invocation loops over more than the loop budget of positions.
+  const int64_t budgetChunks = (rows * xBlocks + static_cast<int64_t>(kLoopIterationBudget) - 1) /
+                               static_cast<int64_t>(kLoopIterationBudget);
+  const int64_t wantedChunks =
+      std::clamp<int64_t>(std::max(kWeightGradInvocations / baseInvocations, budgetChunks), 1, rows);
   const int64_t rowsPerChunk = (rows + wantedChunks - 1) / wantedChunks;
   const int64_t chunks = (rows + rowsPerChunk - 1) / rowsPerChunk;
   const Tensor partial = chunks == 1 ? dw : Tensor(stream.context(), {chunks * dw.numel()});

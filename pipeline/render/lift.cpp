@@ -13,6 +13,11 @@ struct LiftPush {
   int32_t imageWidth, imageHeight, views;
 };
 
+struct LiftAdjointPush {
+  LiftPush lift;
+  int32_t shardSize;
+};
+
 LiftPush liftPush(const GridSize& g, const ViewSet& v) {
   return {static_cast<int32_t>(g.x), static_cast<int32_t>(g.y), static_cast<int32_t>(g.z),
           v.width, v.height, v.views};
@@ -41,10 +46,13 @@ void lift(Stream& stream, const Tensor& images, const ViewSet& views, const Grid
 void liftBackward(Stream& stream, const Tensor& gradLifted, const ViewSet& views, const GridSize& grid,
                   const Tensor& gradImages) {
   checkShapes("lift backward", gradImages, gradLifted, views, grid);
-  stream.fillZero(gradImages);
+  const uint64_t items = static_cast<uint64_t>(gradLifted.numel());
+  const int shards = scatterShards(stream.context(), items, 0, kWorkgroup[0]);
+  const Tensor target = scatterTarget(stream, gradImages, shards);
+  const LiftAdjointPush push{liftPush(grid, views), shards > 1 ? static_cast<int32_t>(gradImages.numel()) : 0};
   dispatchScatter(stream, stream.kernel(scatterKernel(stream.context(), "render/lift_adjoint"), kWorkgroup),
-                  {gradLifted, asVec4(views.table), gradImages}, liftPush(grid, views),
-                  static_cast<uint64_t>(gradLifted.numel()));
+                  {gradLifted, asVec4(views.table), target}, push, items, shards);
+  sumShards(stream, target, shards, gradImages);
 }
 
 }  // namespace smokesvd::render

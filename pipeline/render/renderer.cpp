@@ -17,6 +17,11 @@ struct MarchPush {
   float step;
 };
 
+struct MarchAdjointPush {
+  MarchPush march;
+  int32_t shardSize;
+};
+
 struct LightPush {
   int32_t width, height, depth;
   float step;
@@ -142,24 +147,34 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
   if (gradDensity.numel() != density.numel())
     throw Error("render backward: the density gradient " + toString(gradDensity.shape()) +
                 " must match the density " + toString(density.shape()));
-  const MarchPush push = marchPush(grid, views, settings);
+  // A ray crosses the box [-1/2, size + 1/2] in at most its diagonal / step samples.
+  const auto x = static_cast<double>(grid.x + 1), y = static_cast<double>(grid.y + 1), z = static_cast<double>(grid.z + 1);
+  const auto samples = static_cast<uint64_t>(std::ceil(std::sqrt(x * x + y * y + z * z) / settings.step)) + 1;
+  const uint64_t items = static_cast<uint64_t>(images.numel());
+  const int shards = scatterShards(stream.context(), items, samples, kWorkgroup[0]);
+  const MarchAdjointPush push{marchPush(grid, views, settings),
+                              shards > 1 ? static_cast<int32_t>(density.numel()) : 0};
   const Tensor look = deviceLook(stream.context(), settings);
   if (!settings.light) {
-    stream.fillZero(gradDensity);
+    const Tensor target = scatterTarget(stream, gradDensity, shards);
     const Tensor unusedShadowGradient(stream.context(), {1});
     dispatchScatter(stream, stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {0}),
-                    {density, density, asVec4(views.table), images, gradImages, gradDensity, unusedShadowGradient, look},
-                    push, static_cast<uint64_t>(images.numel()));
+                    {density, density, asVec4(views.table), images, gradImages, target, unusedShadowGradient, look},
+                    push, items, shards);
+    sumShards(stream, target, shards, gradDensity);
     return;
   }
   const Tensor& shadowVolume = requireShadow(shadow, grid, settings);
   Tensor direct(stream.context(), grid.volume());
   Tensor gradShadow(stream.context(), grid.volume());
-  stream.fillZero(direct);
-  stream.fillZero(gradShadow);
-  dispatchScatter(stream, stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {1}),
-                  {density, shadowVolume, asVec4(views.table), images, gradImages, direct, gradShadow, look}, push,
-                  static_cast<uint64_t>(images.numel()));
+  const Tensor directTarget = scatterTarget(stream, direct, shards);
+  const Tensor gradShadowTarget = scatterTarget(stream, gradShadow, shards);
+  const Kernel& kernel = stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {1});
+  dispatchScatter(stream, kernel,
+                  {density, shadowVolume, asVec4(views.table), images, gradImages, directTarget, gradShadowTarget, look},
+                  push, items, shards);
+  sumShards(stream, directTarget, shards, direct);
+  sumShards(stream, gradShadowTarget, shards, gradShadow);
   stream.dispatchFlat(stream.kernel("render/light_transmittance_adjoint", kWorkgroup),
                       {shadowVolume, gradShadow, direct, gradDensity, look}, lightPush(grid, *settings.light),
                       static_cast<uint64_t>(density.numel()));

@@ -2,9 +2,9 @@
 //   grad_images[v, 0, r, c] += grad_lifted[v, z, y, x] * w_(r, c)
 // with w the bilinear weights lift.comp used for voxel (x, y, z) in view v. A scatter (float atomics): the voxels
 // that read one pixel lie along its ray, a set with no regular layout under perspective cameras.
-// grad_images must be zero before the dispatch. The invocations stride over the values, so a single
-// workgroup visits them in a fixed order: a deterministic sum where the device runs one workgroup in
-// order (pipeline/render/atomics.h).
+// grad_images must be zero before the dispatch. The invocations stride over the values; with
+// shard_size > 0 each workgroup adds into its own copy of grad_images (elements from workgroup *
+// shard_size on), a deterministic sum (pipeline/render/atomics.h).
 #include "float_atomic_add.glsl"
 #include "index.glsl"
 #include "camera.glsl"
@@ -16,11 +16,13 @@ layout(std430, binding = 2) buffer GradImages { float_atomic_t grad_images[]; };
 layout(push_constant) uniform Push {
   int width, height, depth;
   int image_width, image_height, views;
+  int shard_size;  // elements of one workgroup's copy of grad_images; 0: every workgroup adds into one
 };
 
 void scatter(int view, ivec2 pixel, float value) {
   if (any(lessThan(pixel, ivec2(0))) || pixel.x >= image_width || pixel.y >= image_height || value == 0.0) return;
-  float_atomic_add(grad_images, (view * image_height + pixel.y) * image_width + pixel.x, value);
+  const int index = int(gl_WorkGroupID.x) * shard_size + (view * image_height + pixel.y) * image_width + pixel.x;
+  float_atomic_add(grad_images, index, value);
 }
 
 void adjoint_value(uint item) {

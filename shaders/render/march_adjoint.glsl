@@ -7,8 +7,8 @@
 //   grad_density[corner]       += g * dI/dsigma_k * w_corner        (zero padding)
 //   grad_transmittance[corner] += g * intensity * dI/dS_k * w_corner (clamped lookup; LIGHT only)
 // A gather would need every sample's gradient stored ([views, samples, H, W]), hence the scatter. The
-// invocations stride over the pixels, so a single workgroup visits them in a fixed order: a deterministic
-// sum where the device runs one workgroup in order (pipeline/render/atomics.h).
+// invocations stride over the pixels; with shard_size > 0 each workgroup adds into its own copy of the
+// gradients (elements from workgroup * shard_size on), a deterministic sum (pipeline/render/atomics.h).
 #include "float_atomic_add.glsl"
 #include "index.glsl"
 #include "sampling.glsl"
@@ -29,7 +29,10 @@ layout(push_constant) uniform Push {
   int width, height, depth;
   int image_width, image_height, views;
   float step_length;
+  int shard_size;  // elements of one workgroup's copy of the gradients; 0: every workgroup adds into one
 };
+
+int shard_base() { return int(gl_WorkGroupID.x) * shard_size; }
 
 void scatter_density(ivec3 size, vec3 p, float value) {
   ivec3 base;
@@ -38,7 +41,8 @@ void scatter_density(ivec3 size, vec3 p, float value) {
   for (int corner = 0; corner < 8; ++corner) {
     const ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
     const ivec3 v = base + offset;
-    if (voxel_inside(v, size)) float_atomic_add(grad_density, voxel_index(v, size), corner_weight(offset, f) * value);
+    if (voxel_inside(v, size))
+      float_atomic_add(grad_density, shard_base() + voxel_index(v, size), corner_weight(offset, f) * value);
   }
 }
 
@@ -49,7 +53,8 @@ void scatter_transmittance(ivec3 size, vec3 p, float value) {
   for (int corner = 0; corner < 8; ++corner) {
     const ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
     const float w = corner_weight(offset, f);
-    if (w != 0.0) float_atomic_add(grad_transmittance, voxel_index(clamped_voxel(base + offset, size), size), w * value);
+    const int index = shard_base() + voxel_index(clamped_voxel(base + offset, size), size);
+    if (w != 0.0) float_atomic_add(grad_transmittance, index, w * value);
   }
 }
 

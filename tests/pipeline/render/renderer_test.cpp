@@ -111,6 +111,40 @@ TEST_F(GpuTest, RenderAndLiftAdjointsAreDeterministicOnCpuDevices) {
   EXPECT_EQ(imageGradients[0], imageGradients[2]);
 }
 
+// llvmpipe ends the loops of one invocation after 65535 iterations in all: the deterministic scatter
+// must spread rays and lifted values over enough shards. Here one workgroup would run 250,000 march
+// steps (and 82,000 lift values) per invocation; the gradients must equal those of the wide dispatch
+// (one ray or value per invocation) up to the order of the atomic additions.
+TEST_F(GpuTest, DeterministicScatterPassesTheLoopLimitOfCpuDevices) {
+  if (!render::deterministicScatter(context())) GTEST_SKIP() << "this device scatters in any order";
+  const GridSize grid{.x = 24, .y = 40, .z = 24};
+  const render::ViewSet views = render::uploadViews(context(), orbitCameras(orbitAngles(16), grid, 24, 40));
+  const Tensor volume = randomTensor(context(), grid.volume(), 8, 0.0f, 0.05f);
+  const Tensor gradImages = randomTensor(context(), {16, 1, 40, 24}, 9);
+  const GridSize liftGrid{.x = 64, .y = 80, .z = 64};
+  const render::ViewSet liftViews = render::uploadViews(context(), orbitCameras(orbitAngles(16), liftGrid, 8, 8));
+  const Tensor gradLifted = randomTensor(context(), {16, 64, 80, 64}, 10);
+  render::RenderSettings s = litSettings();
+  s.step = 0.05f;
+  std::vector<std::vector<float>> grads, imageGrads;
+  for (const bool wide : {false, true}) {
+    if (wide) setenv("SMOKESVD_FAST_SCATTER", "1", 1);
+    const Tensor images(context(), gradImages.shape()), shadow(context(), volume.shape());
+    const Tensor grad(context(), volume.shape()), gradOfLift(context(), {16, 1, 8, 8});
+    Stream stream(context());
+    render::lightTransmittance(stream, volume, s, shadow);
+    render::march(stream, volume, &shadow, views, s, images);
+    render::renderBackward(stream, volume, &shadow, views, s, images, gradImages, grad);
+    render::liftBackward(stream, gradLifted, liftViews, liftGrid, gradOfLift);
+    stream.submit();
+    unsetenv("SMOKESVD_FAST_SCATTER");
+    grads.push_back(grad.download());
+    imageGrads.push_back(gradOfLift.download());
+  }
+  EXPECT_TRUE(allClose(grads[0], grads[1], volume.shape(), {1e-5, 1e-4}));
+  EXPECT_TRUE(allClose(imageGrads[0], imageGrads[1], Shape{16, 1, 8, 8}, {1e-3, 1e-4}));  // 5,000 terms a pixel
+}
+
 INSTANTIATE_TEST_SUITE_P(LightOffOn, RendererTest, ::testing::Bool(),
                          [](const auto& param) { return param.param ? "Lit" : "Unlit"; });
 
