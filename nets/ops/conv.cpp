@@ -27,9 +27,28 @@ void requireOutputPadding(const char* op, const ConvParams& params) {
 
 int64_t taps(const Int3& kernel) { return kernel[0] * kernel[1] * kernel[2]; }
 
+// y = wp^T x + b (pointwise) or dx = w^T dy (its backward input, `transposedWeights`): pack w as [C, K]
+// (or [K, C]), one pointwise pass over the unpadded tensors.
+void pointwise(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& w, const Tensor* bias,
+               const Tensor& y, ConvBlocking blocking, bool transposedWeights) {
+  const int64_t in = transposedWeights ? g.outChannels : g.inChannels;
+  const int64_t out = transposedWeights ? g.inChannels : g.outChannels;
+  const conv::PointwiseBlocking chosen = conv::pointwiseBlocking(stream.context().info(), blocking, out);
+  conv::WeightPacking packing;
+  packing.outChannels = out;
+  packing.inChannels = in;
+  packing.strideK = transposedWeights ? 1 : g.inChannels;
+  packing.strideC = transposedWeights ? g.inChannels : 1;
+  packing.sourceKernel = {1, 1, 1};
+  packing.taps = {1, 1, 1};
+  const Tensor packed = conv::packWeights(stream, w, packing, conv::pointwisePaddedK(chosen, out));
+  conv::pointwise(stream, x, packed, bias, y, chosen);
+}
+
 // y = conv(x, w) + b: pad x, pack w as [C, k..., K], one direct pass with the conv's stride.
 void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& w, const Tensor* bias,
              const Tensor& y, ConvBlocking blocking) {
+  if (conv::isPointwise(g)) return pointwise(stream, g, x, w, bias, y, blocking, false);
   const ConvBlocking chosen = conv::directBlocking(stream.context().info(), blocking, g.output[2], g.kernel[0]);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t xBlocks = (g.output[2] + pixels - 1) / pixels;
@@ -59,6 +78,7 @@ void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tenso
 // flipped, sub-sampled, channel-transposed copy of w.
 void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const Tensor& w, const Tensor* bias,
                 const Tensor& dx, ConvBlocking blocking) {
+  if (conv::isPointwise(g)) return pointwise(stream, g, dy, w, bias, dx, blocking, true);
   std::array<std::vector<conv::Phase>, 3> phases;
   Int3 low{}, size{};
   int64_t widest = 1;
@@ -116,6 +136,7 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
 
 void weightGradient(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& dy, const Tensor& dw,
                     ConvBlocking blocking) {
+  if (conv::isPointwise(g)) return conv::pointwiseWeightGrad(stream, x, dy, dw);
   const ConvBlocking chosen = conv::weightGradBlocking(stream.context().info(), blocking, g.output[2], g.outChannels);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t paddedWidth = conv::roundUp(g.output[2], pixels);

@@ -21,6 +21,11 @@ constexpr uint32_t kWeightGradWorkgroup = 16;  // lanes along (input channel, kz
 // invocations run; the bias gradient sums chunks of this many positions per invocation.
 constexpr int64_t kWeightGradInvocations = 2048;
 constexpr int64_t kBiasChunk = 2048;
+constexpr uint32_t kPointwiseWorkgroup = 32;  // lanes along position blocks or segments
+// The pointwise weight gradient splits positions into chunks of at least this many vec4s per lane until
+// about kWeightGradInvocations invocations run.
+constexpr int64_t kPointwiseMinChunk = 16;
+constexpr int kPointwiseGradChannels = 4;  // input and output channels per invocation
 
 // Register blocks by device class, chosen from the conv-blocking sweep on each (docs/convolution.md). A
 // CPU device runs a few invocations per core, so long pixel rows win for the direct pass; a GPU needs
@@ -31,6 +36,12 @@ struct DeviceDefaults {
 };
 constexpr DeviceDefaults kCpuDefaults{8, 16, 4, 2};  // lavapipe
 constexpr DeviceDefaults kGpuDefaults{4, 8, 8, 4};   // NVIDIA H100
+// Pointwise pass: position vec4s and output channels per invocation.
+struct PointwiseDefaults {
+  int positionVec4s, channels;
+};
+constexpr PointwiseDefaults kCpuPointwise{4, 8};
+constexpr PointwiseDefaults kGpuPointwise{1, 8};
 
 const DeviceDefaults& defaultsFor(const DeviceInfo& device) {
   return device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuDefaults : kGpuDefaults;
@@ -202,6 +213,68 @@ void weightGrad(Stream& stream, const ConvGeometry& g, const Padded& xp, const T
                   {groupsFor(lanes, kWeightGradWorkgroup), static_cast<uint32_t>(kBlocks),
                    static_cast<uint32_t>(chunks)});
   if (chunks > 1) sumPartials(stream, partial, chunks, dw);
+}
+
+bool isPointwise(const ConvGeometry& g) {
+  const int64_t positions = g.input[0] * g.input[1] * g.input[2];
+  return g.kernel == Int3{1, 1, 1} && g.output == g.input && g.padding == Int3{0, 0, 0} && positions % 4 == 0;
+}
+
+PointwiseBlocking pointwiseBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t outChannels) {
+  requireBlocking(requested);
+  const PointwiseDefaults& d = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuPointwise : kGpuPointwise;
+  const int positionVec4s = requested.pixels != 0 ? (requested.pixels + 3) / 4 : d.positionVec4s;
+  const int channels = requested.channelVec4s != 0 ? 4 * requested.channelVec4s : d.channels;
+  return {positionVec4s, outChannels <= channels ? static_cast<int>(outChannels) : channels};
+}
+
+int64_t pointwisePaddedK(const PointwiseBlocking& blocking, int64_t outChannels) {
+  return roundUp(outChannels, roundUp(blocking.channels, 4));
+}
+
+void pointwise(Stream& stream, const Tensor& x, const Tensor& packedWeights, const Tensor* bias, const Tensor& y,
+               const PointwiseBlocking& blocking) {
+  const int64_t planeVec4s = y.numel() / (y.size(0) * y.size(1)) / 4;
+  const int64_t kBlocks = (y.size(1) + blocking.channels - 1) / blocking.channels;
+  const int64_t items = (planeVec4s + blocking.positionVec4s - 1) / blocking.positionVec4s;
+  struct {
+    int32_t channels, planeVec4s, outChannels, weightRow;
+  } push{i32(x.size(1)), i32(planeVec4s), i32(y.size(1)), i32(pointwisePaddedK(blocking, y.size(1)) / 4)};
+  const Kernel& kernel = stream.kernel("nn/conv_pointwise", {kPointwiseWorkgroup, 1, 1},
+                                       {blocking.positionVec4s, blocking.channels, bias != nullptr ? 1 : 0});
+  const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(packedWeights);
+  stream.dispatch(kernel, {asVec4(x), asVec4(packedWeights), biasArg, y}, push,
+                  {static_cast<uint32_t>(kBlocks), groupsFor(items, kPointwiseWorkgroup),
+                   static_cast<uint32_t>(y.size(0))});
+}
+
+void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const Tensor& dw) {
+  const DeviceInfo& device = stream.context().info();
+  const int64_t batch = x.size(0), channels = x.size(1), outChannels = g.size(1);
+  const int64_t planeVec4s = x.numel() / (batch * channels) / 4;
+  const int inChannelsPerLane = static_cast<int>(std::min<int64_t>(kPointwiseGradChannels, channels));
+  const int outChannelsPerLane = static_cast<int>(std::min<int64_t>(kPointwiseGradChannels, outChannels));
+  const int64_t inBlocks = (channels + inChannelsPerLane - 1) / inChannelsPerLane;
+  const int64_t pairs = inBlocks * ((outChannels + outChannelsPerLane - 1) / outChannelsPerLane);
+  // One subgroup per workgroup where the device allows (reductionWorkgroup); S slots per chunk otherwise.
+  const uint32_t workgroup = device.reductionWorkgroup();
+  const int64_t subgroups = std::max<int64_t>(workgroup / std::max(device.subgroupSize, 1u), 1);
+  const int64_t wantedChunks = std::max<int64_t>(kWeightGradInvocations / (pairs * batch * workgroup), 1);
+  const int64_t budget = static_cast<int64_t>(kLoopIterationBudget) * workgroup;  // vec4s a chunk may hold
+  const int64_t wanted = std::max(kPointwiseMinChunk * static_cast<int64_t>(workgroup),
+                                  (planeVec4s + wantedChunks - 1) / wantedChunks);
+  const int64_t chunkVec4s = roundUp(std::min(budget, wanted), workgroup);
+  const int64_t chunks = (planeVec4s + chunkVec4s - 1) / chunkVec4s;
+  const int64_t slots = batch * chunks * subgroups;
+  const Tensor partial = slots == 1 ? dw : Tensor(stream.context(), {slots * dw.numel()});
+  struct {
+    int32_t channels, outChannels, planeVec4s, chunkVec4s, inBlocks;
+  } push{i32(channels), i32(outChannels), i32(planeVec4s), i32(chunkVec4s), i32(inBlocks)};
+  const Kernel& kernel = stream.kernel("nn/conv_pointwise_weight_grad", {workgroup, 1, 1},
+                                       {inChannelsPerLane, outChannelsPerLane});
+  stream.dispatch(kernel, {asVec4(x), asVec4(g), partial}, push,
+                  {static_cast<uint32_t>(chunks), static_cast<uint32_t>(pairs), static_cast<uint32_t>(batch)});
+  if (slots > 1) sumPartials(stream, partial, slots, dw);
 }
 
 void biasGrad(Stream& stream, const Tensor& g, const Tensor& db) {

@@ -62,6 +62,24 @@ Tensor packGrad(Stream& stream, const Tensor& g5, int64_t paddedWidth, int64_t p
 void weightGrad(Stream& stream, const ConvGeometry& g, const Padded& xp, const Tensor& gradRows, const Tensor& dw,
                 int pixels, int channelVec4s);
 
+// Pointwise convolutions (1^d kernel, stride 1, no padding, positions D*H*W a multiple of 4) run on the
+// unpadded tensors (shaders/nn/conv_pointwise*.comp).
+bool isPointwise(const ConvGeometry& g);
+// Positions and output channels per invocation of the pointwise pass: ConvBlocking{positions, channels}.
+// `requested` is read as pixels -> positions (rounded up to vec4s), channelVec4s -> 4 * channels.
+struct PointwiseBlocking {
+  int positionVec4s = 0;
+  int channels = 0;  // a multiple of 4, or every output channel in one block
+};
+PointwiseBlocking pointwiseBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t outChannels);
+// y [N, K, P] = bias + wp^T x for x [N, C, P]; wp packed [C, paddedK] by packWeights with paddedK =
+// pointwisePaddedK(blocking, K).
+int64_t pointwisePaddedK(const PointwiseBlocking& blocking, int64_t outChannels);
+void pointwise(Stream& stream, const Tensor& x, const Tensor& packedWeights, const Tensor* bias, const Tensor& y,
+               const PointwiseBlocking& blocking);
+// dw [K, C] (any shape of K*C elements) = sum over n, p of g[n, k, p] x[n, c, p] for x [N, C, P], g [N, K, P].
+void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const Tensor& dw);
+
 // db [K] = sum of g [N, K, P] over n and p (two-stage reduction).
 void biasGrad(Stream& stream, const Tensor& g, const Tensor& db);
 

@@ -216,6 +216,31 @@ TEST_F(ConvTest, TransposedBackwardMatchesFiniteDifferences) {
     checkGradients(c, true);
 }
 
+// 1^d kernels at stride 1 without padding on D*H*W a multiple of 4 take the pointwise kernels (no padded
+// copy); K below, at and above a block, C odd, tails of position blocks and of weight-gradient segments.
+TEST_F(ConvTest, PointwiseForwardEveryBlocking) {
+  const std::initializer_list<ops::ConvBlocking> blockings{{}, {1, 1}, {4, 1}, {5, 3}, {8, 4}, {16, 2}};
+  for (const Case& c : {Case{{2, 5, 4, 7}, {9, 5, 1, 1}, {1, 0}, true},
+                        Case{{2, 3, 2, 3, 6}, {1, 3, 1, 1, 1}, {1, 0}, true},
+                        Case{{1, 13, 4, 6, 10}, {6, 13, 1, 1, 1}, {1, 0}},
+                        Case{{3, 4, 3, 4}, {17, 4, 1, 1}, {1, 0}, true}})
+    checkForward(c, false, blockings);
+  checkForward(Case{{2, 5, 4, 7}, {5, 3, 1, 1}, {1, 0}, true}, true, blockings);
+}
+
+TEST_F(ConvTest, PointwiseBackwardMatchesFiniteDifferences) {
+  for (const Case& c : {Case{{2, 3, 4, 6}, {5, 3, 1, 1}, {1, 0}}, Case{{1, 2, 2, 2, 3}, {3, 2, 1, 1, 1}, {1, 0}},
+                        Case{{2, 5, 2, 2}, {1, 5, 1, 1}, {1, 0}}})
+    checkGradients(c, false);
+  checkGradients(Case{{2, 3, 4, 6}, {3, 5, 1, 1}, {1, 0}}, true);
+}
+
+TEST_F(ConvTest, PointwiseBackwardLargerShapesWithTails) {
+  checkLargeBackward(Case{{2, 22, 5, 6, 12}, {19, 22, 1, 1, 1}, {1, 0}});
+  checkLargeBackward(Case{{1, 6, 14, 18, 20}, {7, 6, 1, 1, 1}, {1, 0}});
+  checkLargeBackward(Case{{2, 9, 36, 40}, {2, 9, 1, 1}, {1, 0}});
+}
+
 TEST_F(ConvTest, RejectsMismatchedShapes) {
   Tensor x(context(), {1, 3, 8, 8});
   Tensor w(context(), {4, 2, 3, 3});

@@ -1,0 +1,68 @@
+#version 450
+// Pointwise (1x1, stride 1, no padding) convolution with packed weights: conv forward of a 1^d kernel and
+// its backward-input pass (nets/ops/conv.cpp, docs/convolution.md):
+//
+//   y[n, k, p] = bias[k] + sum_{c<C} wp[c, k] * x[n, c, p]      p < P, the flattened spatial positions
+//
+// n batch, c input channel, k output channel. x [N, C, P] and y [N, K, P] are read and written as vec4s
+// of four consecutive positions (P is a multiple of 4), so neither needs a padded copy; wp holds the
+// weights as [C, Kpad], Kpad a multiple of 4*ceil(CHANNELS/4), zero past K, read as vec4s.
+//
+// Blocking: one invocation computes POSITION_VEC4S vec4s of positions for CHANNELS output channels. Per
+// input channel it fetches POSITION_VEC4S input vec4s and ceil(CHANNELS/4) weight vec4s and does
+// CHANNELS*POSITION_VEC4S vec4 multiply-adds. Lanes run along the position blocks (workgroup y);
+// workgroup x is the channel block, so the blocks of one tile run back to back and find its inputs in
+// cache; workgroup z is the batch item. Channels k >= K and positions past P are not written.
+layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
+layout(constant_id = 3) const int POSITION_VEC4S = 4;
+layout(constant_id = 4) const int CHANNELS = 8;
+layout(constant_id = 5) const bool HAS_BIAS = false;
+
+const int CHANNEL_VEC4S = (CHANNELS + 3) / 4;
+
+layout(binding = 0) uniform samplerBuffer x4;
+layout(binding = 1) uniform samplerBuffer wp;
+layout(binding = 2) uniform samplerBuffer bias;
+layout(std430, binding = 3) writeonly buffer Output { vec4 y4[]; };
+layout(push_constant) uniform Push {
+  int channels;     // C
+  int planeVec4s;   // P / 4
+  int outChannels;  // K
+  int weightRow;    // Kpad / 4: vec4s per input channel of wp
+};
+
+void main() {
+  const int first = int(gl_WorkGroupID.y * gl_WorkGroupSize.x + gl_LocalInvocationID.x) * POSITION_VEC4S;
+  if (first >= planeVec4s) return;
+  const int k0 = int(gl_WorkGroupID.x) * CHANNELS;
+  const int n = int(gl_WorkGroupID.z);
+  // The last block reads its first vec4 again where it would pass the plane; those are not written.
+  int at[POSITION_VEC4S];
+  for (int v = 0; v < POSITION_VEC4S; ++v) at[v] = min(first + v, planeVec4s - 1);
+
+  vec4 acc[CHANNELS][POSITION_VEC4S];
+  for (int q = 0; q < CHANNEL_VEC4S; ++q) {
+    const vec4 b = HAS_BIAS ? texelFetch(bias, k0 / 4 + q) : vec4(0.0);
+    for (int lane = 0; lane < 4; ++lane)
+      if (q * 4 + lane < CHANNELS)
+        for (int v = 0; v < POSITION_VEC4S; ++v) acc[q * 4 + lane][v] = vec4(b[lane]);
+  }
+
+  int source = n * channels * planeVec4s;
+  int w = k0 / 4;
+  for (int c = 0; c < channels; ++c, source += planeVec4s, w += weightRow) {
+    vec4 xv[POSITION_VEC4S];
+    for (int v = 0; v < POSITION_VEC4S; ++v) xv[v] = texelFetch(x4, source + at[v]);
+    vec4 weight[CHANNEL_VEC4S];
+    for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[q] = texelFetch(wp, w + q);
+    for (int k = 0; k < CHANNELS; ++k)
+      for (int v = 0; v < POSITION_VEC4S; ++v) acc[k][v] += weight[k / 4][k % 4] * xv[v];
+  }
+
+  const int outBase = (n * outChannels + k0) * planeVec4s;
+  for (int k = 0; k < CHANNELS; ++k) {
+    if (k0 + k >= outChannels) break;
+    for (int v = 0; v < POSITION_VEC4S; ++v)
+      if (first + v < planeVec4s) y4[outBase + k * planeVec4s + first + v] = acc[k][v];
+  }
+}
