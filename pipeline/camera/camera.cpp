@@ -2,6 +2,7 @@
 
 #include <glm/mat3x4.hpp>
 #include <glm/matrix.hpp>
+#include <cmath>
 #include <numbers>
 
 #include "runtime/error.h"
@@ -62,6 +63,31 @@ std::vector<Camera> orbitCameras(const std::vector<double>& anglesDegrees, const
   std::vector<Camera> cameras;
   for (double angle : anglesDegrees) cameras.push_back(orbitCamera(angle, grid, width, height));
   return cameras;
+}
+
+Camera windowCamera(const Camera& camera, double x0, double y0, double windowWidth, double windowHeight, int width,
+                    int height) {
+  if (width <= 0 || height <= 0 || !(windowWidth > 0) || !(windowHeight > 0) || !std::isfinite(x0) || !std::isfinite(y0))
+    throw Error("window camera: a window of " + std::to_string(windowWidth) + "x" + std::to_string(windowHeight) +
+                " pixels at (" + std::to_string(x0) + ", " + std::to_string(y0) + ") resampled to " +
+                std::to_string(width) + "x" + std::to_string(height) + ": sizes must be positive and finite");
+  const double su = windowWidth / width, sv = windowHeight / height;
+  Camera window = camera;
+  window.width = width;
+  window.height = height;
+  window.origin = camera.origin + x0 * camera.originPerU + y0 * camera.originPerV;
+  window.originPerU = su * camera.originPerU;
+  window.originPerV = sv * camera.originPerV;
+  window.direction = camera.direction + x0 * camera.directionPerU + y0 * camera.directionPerV;
+  window.directionPerU = su * camera.directionPerU;
+  window.directionPerV = sv * camera.directionPerV;
+  // (a', b', c) = ((a - x0 c) / su, (b - y0 c) / sv, c): pixel' = (pixel - (x0, y0)) / (su, sv). GLM: [column][row].
+  for (int column = 0; column < 4; ++column) {
+    const double c = camera.projection[column][2];
+    window.projection[column][0] = (camera.projection[column][0] - x0 * c) / su;
+    window.projection[column][1] = (camera.projection[column][1] - y0 * c) / sv;
+  }
+  return window;
 }
 
 double orbitAngleOf(const Camera& camera) {

@@ -55,6 +55,14 @@ std::vector<double> orbitAngles(int views);
 std::vector<Camera> orbitCameras(const std::vector<double>& anglesDegrees, const GridSize& grid, int width,
                                  int height);
 
+// The camera whose image is the window [x0, x0 + windowWidth] x [y0, y0 + windowHeight] (pixel coordinates of
+// `camera`'s image; it may extend past the image) resampled to width x height pixels: its pixel (u, v) sees
+// what `camera` sees at (x0 + u windowWidth / width, y0 + v windowHeight / height). Perspective or not as
+// `camera` is; rays and projection stay exact, so a crop of the footage and a render through this camera
+// cover the same part of the scene.
+Camera windowCamera(const Camera& camera, double x0, double y0, double windowWidth, double windowHeight, int width,
+                    int height);
+
 // The orbit angle (degrees, in (-180, 180]) of a camera's central viewing direction about the vertical axis,
 // in the convention above (0 = looking along +z, 90 = looking along -x).
 double orbitAngleOf(const Camera& camera);

@@ -127,11 +127,6 @@ IntensityMapping chooseMapping(std::vector<media::Image>& frames, const InputOpt
   return m;
 }
 
-void applyMapping(std::vector<media::Image>& frames, const IntensityMapping& m) {
-  for (media::Image& f : frames)
-    for (float& v : f.values) v = std::clamp((std::max(0.0f, (v - m.black) * m.gain - m.threshold)) / (1.0f - m.threshold), 0.0f, 1.0f);
-}
-
 Region fitAspect(double cx, double bottom, double width, double height, double aspect) {
   // aspect = region width / region height
   if (width / height < aspect) width = height * aspect;
@@ -159,6 +154,20 @@ Region autoRegion(const std::vector<media::Image>& frames, double aspect, const 
   return fitAspect(0.5 * (xmin + xmax + 1), ymax + 1 + 0.04 * height, width, height, aspect);
 }
 
+}  // namespace
+
+Framing parseFraming(const std::string& text) {
+  if (text == "box") return Framing::Box;
+  if (text == "auto") return Framing::Auto;
+  if (text == "calibrated") return Framing::Calibrated;
+  throw Error("--framing: expected box, auto or calibrated, got '" + text + "'");
+}
+
+void applyMapping(std::vector<media::Image>& frames, const IntensityMapping& m) {
+  for (media::Image& f : frames)
+    for (float& v : f.values) v = std::clamp((std::max(0.0f, (v - m.black) * m.gain - m.threshold)) / (1.0f - m.threshold), 0.0f, 1.0f);
+}
+
 Region calibratedRegion(const Camera& camera, const GridSize& grid, double aspect) {
   double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
   for (const Vec3& corner : gridCorners(grid)) {
@@ -172,9 +181,7 @@ Region calibratedRegion(const Camera& camera, const GridSize& grid, double aspec
   return fitAspect(0.5 * (x0 + x1), y1, x1 - x0, y1 - y0, aspect);
 }
 
-// Area resampling of `region` of `image` to width x height (pixels outside the image are black): each
-// output pixel averages the source over its footprint, at least one source pixel wide.
-std::vector<float> resample(const media::Image& image, const Region& region, int width, int height) {
+std::vector<float> resampleRegion(const media::Image& image, const Region& region, int width, int height) {
   const double sx = region.width / width, sy = region.height / height;
   const double fx = std::max(sx, 1.0), fy = std::max(sy, 1.0);
   auto weights = [](double a, double b, int n) {  // coverage of source cells [i, i+1) by [a, b)
@@ -199,15 +206,6 @@ std::vector<float> resample(const media::Image& image, const Region& region, int
     }
   }
   return out;
-}
-
-}  // namespace
-
-Framing parseFraming(const std::string& text) {
-  if (text == "box") return Framing::Box;
-  if (text == "auto") return Framing::Auto;
-  if (text == "calibrated") return Framing::Calibrated;
-  throw Error("--framing: expected box, auto or calibrated, got '" + text + "'");
 }
 
 FrontViews readFrontViews(const InputOptions& o, const Preset& preset) {
@@ -244,7 +242,7 @@ FrontViews readFrontViews(const InputOptions& o, const Preset& preset) {
     }
   }
   for (const media::Image& frame : input.images)
-    views.frames.push_back(resample(frame, views.region, preset.imageWidth, preset.imageHeight));
+    views.frames.push_back(resampleRegion(frame, views.region, preset.imageWidth, preset.imageHeight));
   return views;
 }
 

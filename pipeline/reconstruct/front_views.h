@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline/camera/camera.h"
+#include "pipeline/media/image.h"
 #include "pipeline/preset.h"
 
 namespace smokesvd::reconstruct {
@@ -68,5 +69,16 @@ struct FrontViews {
 FrontViews readFrontViews(const InputOptions& options, const Preset& preset);
 
 Framing parseFraming(const std::string& text);  // "box", "auto", "calibrated"
+
+// The pieces of the input path that evaluation repeats for the other cameras (pipeline/eval):
+// w = clamp(max(0, (v - black) * gain - threshold) / (1 - threshold), 0, 1) on every value (a per-pixel
+// background is subtracted before, by the caller);
+void applyMapping(std::vector<media::Image>& frames, const IntensityMapping& mapping);
+// the projection of the box of `grid` into `camera`'s image, centred and bottom-aligned, widened to `aspect`
+// (width / height);
+Region calibratedRegion(const Camera& camera, const GridSize& grid, double aspect);
+// area resampling of `region` of `image` to width x height (pixels outside the image are black): each output
+// pixel averages the source over its footprint, at least one source pixel wide.
+std::vector<float> resampleRegion(const media::Image& image, const Region& region, int width, int height);
 
 }  // namespace smokesvd::reconstruct

@@ -8,6 +8,8 @@ const std::vector<ShaderCoveredElsewhere>& shadersWithoutOps() {
       {"bench/fma_peak", "tests/tools/smokesvd/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
       {"tensor/copy_storage", "tests/tools/smokesvd/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
       {"tensor/empty", "tests/tools/smokesvd/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
+      // evaluation metrics
+      {"eval/ssim", "tests/pipeline/eval/image_metrics_test.cpp", "ImageMetricsTest.MseAndSsimOfRandomStacksMatchTheDoubleFormulas"},
       // the optimiser and the diffusion sampler
       {"nn/adam", "tests/nets/optim/adam_test.cpp", "AdamTest.TenStepsMatchDoubleReference"},
       {"nn/optimizer_step", "tests/nets/optim/adam_test.cpp", "AdamTest.TenStepsMatchDoubleReference"},

@@ -72,6 +72,37 @@ TEST(CameraTest, RaysAndProjectionAgreeForEveryCameraKind) {
   }
 }
 
+TEST(CameraTest, AWindowCameraSeesTheWindowOfItsCamera) {
+  CalibratedView view;
+  view.fileName = "v.mp4";
+  view.cameraAngleX = 0.6;
+  view.width = 300;
+  view.height = 200;
+  view.cameraToWorld = glm::dmat4(1.0);
+  view.cameraToWorld[3] = glm::dvec4(0.3, 0.4, 3.0, 1.0);
+  VolumeBox box;
+  box.scale = {1, 1, 1};
+  const GridSize grid{.x = 8, .y = 10, .z = 6};
+  for (const Camera& camera : {orbitCamera(30, grid, 16, 20), calibratedCamera(view, box, grid)}) {
+    const double x0 = -3.5, y0 = 12.25, w = 41.0, h = 37.0;
+    const Camera window = windowCamera(camera, x0, y0, w, h, 9, 13);
+    EXPECT_EQ(window.width, 9);
+    EXPECT_EQ(window.height, 13);
+    EXPECT_EQ(window.perspective, camera.perspective);
+    for (const auto& [u, v] : {std::pair{0.5, 0.5}, std::pair{4.0, 7.25}, std::pair{8.5, 12.5}}) {
+      const Ray a = window.ray(u, v), b = camera.ray(x0 + u * w / 9, y0 + v * h / 13);
+      expectNear(a.origin, b.origin, 1e-9);
+      expectNear(a.direction, b.direction, 1e-9);
+      // The window's projection maps a point on the ray back to (u, v).
+      const auto p = window.project(a.origin + 7.0 * a.direction);
+      ASSERT_TRUE(p);
+      EXPECT_NEAR((*p)[0], u, 1e-9);
+      EXPECT_NEAR((*p)[1], v, 1e-9);
+    }
+  }
+  EXPECT_THROW(windowCamera(orbitCamera(0, grid, 8, 10), 0, 0, 0, 4, 8, 10), Error);
+}
+
 TEST(CameraTest, NerfCameraLooksDownMinusZWithYUp) {
   // World = grid here; camera at (3, 3.5, 20) looking at the grid centre (3, 3.5, 2.5): down world -z.
   const GridSize grid{.x = 6, .y = 7, .z = 5};
