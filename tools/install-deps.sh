@@ -9,4 +9,4 @@ $SUDO apt-get install -y --no-install-recommends \
   cmake ninja-build g++ pkg-config git ca-certificates \
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools \
   libglm-dev libstb-dev libcli11-dev nlohmann-json3-dev libgtest-dev libzip-dev zlib1g-dev \
-  ffmpeg libopencv-dev python3-torch python3-numpy
+  ffmpeg libopencv-dev python3-torch python3-numpy libopenvdb-dev libboost-iostreams-dev
