@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
@@ -35,5 +36,13 @@ struct GridSize {
   Vec3 centre() const { return {0.5 * static_cast<double>(x), 0.5 * static_cast<double>(y), 0.5 * static_cast<double>(z)}; }
   bool operator==(const GridSize&) const = default;
 };
+
+// The largest grid any command accepts, checked before anything is allocated for it: 1024 cells per side
+// (a ray crosses at most ~1800 cells) and 2^28 cells in all (1 GiB per float field).
+inline constexpr int64_t kMaxGridSide = 1024;
+inline constexpr int64_t kMaxGridCells = int64_t{1} << 28;
+
+// Throws Error("<what>: ...") unless every side is in [1, kMaxGridSide] and there are at most kMaxGridCells.
+void checkGridSize(const GridSize& grid, const std::string& what);
 
 }  // namespace smokesvd

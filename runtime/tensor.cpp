@@ -14,7 +14,9 @@ std::string toString(const Shape& shape) {
 
 int64_t numElements(const Shape& shape) {
   int64_t count = 1;
-  for (int64_t extent : shape) count *= extent;
+  for (int64_t extent : shape)
+    if (__builtin_mul_overflow(count, extent, &count))
+      throw Error("shape " + toString(shape) + " has more elements than a 64-bit count holds");
   return count;
 }
 

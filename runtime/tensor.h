@@ -19,7 +19,7 @@ class Context;
 using Shape = std::vector<int64_t>;
 
 std::string toString(const Shape& shape);  // "[2, 3, 4]"
-int64_t numElements(const Shape& shape);
+int64_t numElements(const Shape& shape);  // throws Error if the count overflows 64 bits
 
 class Tensor {
  public:

@@ -1,5 +1,6 @@
 #include "nets/io/file_io.h"
 
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -8,12 +9,26 @@
 
 namespace smokesvd::io {
 
-std::vector<std::byte> readFileBytes(const std::filesystem::path& path) {
+void requireReadableFile(const std::filesystem::path& path) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (!std::filesystem::exists(status)) throw Error(path.string() + ": no such file");
+  if (std::filesystem::is_directory(status)) throw Error(path.string() + ": is a folder, expected a file");
+}
+
+std::string readTextFile(const std::filesystem::path& path) {
+  requireReadableFile(path);
   std::ifstream file(path, std::ios::binary);
-  if (!file) throw Error(path.string() + ": cannot open for reading");
-  std::vector<char> raw((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  std::vector<std::byte> bytes(raw.size());
-  std::memcpy(bytes.data(), raw.data(), raw.size());
+  if (!file) throw Error(path.string() + ": cannot open for reading: " + std::strerror(errno));
+  std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  if (file.bad()) throw Error(path.string() + ": reading failed");
+  return text;
+}
+
+std::vector<std::byte> readFileBytes(const std::filesystem::path& path) {
+  const std::string text = readTextFile(path);
+  std::vector<std::byte> bytes(text.size());
+  std::memcpy(bytes.data(), text.data(), text.size());
   return bytes;
 }
 

@@ -4,17 +4,27 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <string>
 #include <vector>
+
+#include "nets/io/temporary_files.h"
 
 namespace smokesvd::io {
 
+// The whole file. Throws Error naming the path: "no such file", "is a folder, expected a file", or why it
+// cannot be read.
 std::vector<std::byte> readFileBytes(const std::filesystem::path& path);
+std::string readTextFile(const std::filesystem::path& path);
+// Throws the same errors as the readers unless `path` names an existing file (not a folder).
+void requireReadableFile(const std::filesystem::path& path);
 
-// Calls write(temporaryPath), then renames the temporary over `path`; removes it if anything throws.
+// Calls write(temporaryPath), then renames the temporary over `path`; removes it if anything throws, and
+// a signal that ends the process meanwhile removes it too (temporary_files.h).
 template <typename Write>
 void writeAtomically(const std::filesystem::path& path, Write&& write) {
   std::filesystem::path temporary = path;
   temporary += ".tmp";
+  const InFlightTemporary inFlight(temporary);
   try {
     write(temporary);
     std::filesystem::rename(temporary, path);

@@ -6,7 +6,9 @@
 #include <ctime>
 #include <fstream>
 #include <memory>
-#include <regex>
+#include <algorithm>
+#include <cctype>
+#include <utility>
 
 #include "nets/io/file_io.h"
 #include "runtime/error.h"
@@ -18,24 +20,107 @@ constexpr char kMagic[] = "\x93NUMPY";
 
 Error fail(const std::string& source, const std::string& what) { return Error(source + ": " + what); }
 
-std::string quoted(const std::string& header, const std::string& key, const std::string& source) {
-  const std::regex pattern("'" + key + "'\\s*:\\s*'([^']*)'");
-  std::smatch match;
-  if (!std::regex_search(header, match, pattern)) throw fail(source, "npy header has no '" + key + "' field");
-  return match[1];
-}
-
-Shape parseShape(const std::string& header, const std::string& source) {
-  const std::regex pattern("'shape'\\s*:\\s*\\(([^)]*)\\)");
-  std::smatch match;
-  if (!std::regex_search(header, match, pattern)) throw fail(source, "npy header has no 'shape' tuple");
+// The header dictionary, e.g. {'descr': '<f4', 'fortran_order': False, 'shape': (16, 28, 16), }, parsed
+// exactly: the three keys NumPy writes, each once, and nothing else.
+struct NpyHeader {
+  std::string descr;
+  bool fortranOrder = false;
   Shape shape;
-  const std::string dims = match[1];
-  const std::regex number("\\d+");
-  for (auto it = std::sregex_iterator(dims.begin(), dims.end(), number); it != std::sregex_iterator(); ++it)
-    shape.push_back(std::stoll(it->str()));
-  return shape;
-}
+};
+
+class HeaderParser {
+ public:
+  HeaderParser(const std::string& text, const std::string& source) : text_(text), source_(source) {}
+
+  NpyHeader parse() {
+    NpyHeader header;
+    bool haveDescr = false, haveOrder = false, haveShape = false;
+    expect('{');
+    while (!peek('}')) {
+      const std::string key = quotedString();
+      expect(':');
+      bool* seen = key == "descr" ? &haveDescr : key == "fortran_order" ? &haveOrder : key == "shape" ? &haveShape : nullptr;
+      if (!seen) throw fail(source_, "npy header has an unknown key '" + key + "' (expected descr, fortran_order, shape)");
+      if (*seen) throw fail(source_, "npy header gives '" + key + "' twice");
+      *seen = true;
+      if (key == "descr") header.descr = quotedString();
+      else if (key == "fortran_order") header.fortranOrder = boolean();
+      else header.shape = shape();
+      if (!peek('}')) expect(',');
+    }
+    expect('}');
+    skipBlanks();
+    if (position_ != text_.size()) throw fail(source_, "npy header has text after its dictionary");
+    if (!haveDescr) throw fail(source_, "npy header has no 'descr' field");
+    if (!haveOrder) throw fail(source_, "npy header has no 'fortran_order' field");
+    if (!haveShape) throw fail(source_, "npy header has no 'shape' tuple");
+    return header;
+  }
+
+ private:
+  void skipBlanks() {
+    while (position_ < text_.size() && (text_[position_] == ' ' || text_[position_] == '\n' || text_[position_] == '\t'))
+      ++position_;
+  }
+  bool peek(char c) {
+    skipBlanks();
+    return position_ < text_.size() && text_[position_] == c;
+  }
+  void expect(char c) {
+    if (!peek(c)) throw fail(source_, std::string("npy header: expected '") + c + "' at character " + std::to_string(position_));
+    ++position_;
+  }
+  std::string quotedString() {
+    skipBlanks();
+    const char quote = position_ < text_.size() ? text_[position_] : '\0';
+    if (quote != '\'' && quote != '"') throw fail(source_, "npy header: expected a quoted name at character " + std::to_string(position_));
+    const std::size_t close = text_.find(quote, position_ + 1);
+    if (close == std::string::npos) throw fail(source_, "npy header: unterminated string");
+    std::string value = text_.substr(position_ + 1, close - position_ - 1);
+    position_ = close + 1;
+    return value;
+  }
+  bool boolean() {
+    skipBlanks();
+    for (const auto& [word, value] : {std::pair{"True", true}, std::pair{"False", false}})
+      if (text_.compare(position_, std::strlen(word), word) == 0) {
+        position_ += std::strlen(word);
+        return value;
+      }
+    throw fail(source_, "npy header: 'fortran_order' must be True or False");
+  }
+  Shape shape() {
+    Shape dims;
+    expect('(');
+    while (!peek(')')) {
+      skipBlanks();
+      if (position_ < text_.size() && text_[position_] == '-')
+        throw fail(source_, "npy header: negative dimension in shape (" + shapeText() + ")");
+      const std::size_t first = position_;
+      int64_t extent = 0;
+      while (position_ < text_.size() && std::isdigit(static_cast<unsigned char>(text_[position_]))) {
+        if (__builtin_mul_overflow(extent, 10, &extent) || __builtin_add_overflow(extent, text_[position_] - '0', &extent))
+          throw fail(source_, "npy header: a dimension of the shape (" + shapeText() + ") is too large");
+        ++position_;
+      }
+      if (position_ == first) throw fail(source_, "npy header: the shape (" + shapeText() + ") is not a tuple of whole numbers");
+      dims.push_back(extent);
+      if (!peek(')')) expect(',');
+    }
+    expect(')');
+    return dims;
+  }
+  // The shape tuple as written, for errors.
+  std::string shapeText() const {
+    const std::size_t open = text_.rfind('(', position_);
+    const std::size_t close = text_.find(')', position_);
+    return open == std::string::npos ? "?" : text_.substr(open + 1, (close == std::string::npos ? text_.size() : close) - open - 1);
+  }
+
+  const std::string& text_;
+  const std::string& source_;
+  std::size_t position_ = 0;
+};
 
 }  // namespace
 
@@ -77,21 +162,25 @@ NpyArray parseNpy(std::span<const std::byte> bytes, const std::string& source) {
   if (headerStart + headerLength > bytes.size()) throw fail(source, "truncated .npy header");
   const std::string header(reinterpret_cast<const char*>(bytes.data() + headerStart), headerLength);
 
+  const NpyHeader parsed = HeaderParser(header, source).parse();
   NpyArray array;
-  const std::string descr = quoted(header, "descr", source);
-  if (descr == "<f4") array.dtype = DType::Float32;
-  else if (descr == "<i4") array.dtype = DType::Int32;
-  else throw fail(source, "dtype '" + descr + "' is not supported (expected '<f4' float32 or '<i4' int32)");
-  if (header.find("'fortran_order': False") == std::string::npos)
-    throw fail(source, "fortran_order must be False (C order); save with np.ascontiguousarray");
-  array.shape = parseShape(header, source);
-  for (int64_t extent : array.shape)
-    if (extent < 0) throw fail(source, "negative dimension in shape");
+  if (parsed.descr == "<f4") array.dtype = DType::Float32;
+  else if (parsed.descr == "<i4") array.dtype = DType::Int32;
+  else throw fail(source, "dtype '" + parsed.descr + "' is not supported (expected '<f4' float32 or '<i4' int32)");
+  if (parsed.fortranOrder) throw fail(source, "fortran_order must be False (C order); save with np.ascontiguousarray");
+  array.shape = parsed.shape;
 
   const std::size_t dataStart = headerStart + headerLength;
-  const std::size_t expected = static_cast<std::size_t>(array.numel()) * 4;
   const std::size_t available = bytes.size() - dataStart;
-  if (available != expected) {
+  int64_t count = 1;
+  for (int64_t extent : array.shape)
+    if (__builtin_mul_overflow(count, extent, &count) || count > static_cast<int64_t>(available))
+      count = -1;  // more elements than the file could hold
+  const std::size_t expected = count < 0 ? 0 : static_cast<std::size_t>(count) * 4;
+  if (count < 0 || available != expected) {
+    if (count < 0)
+      throw fail(source, "shape " + toString(array.shape) + " needs more data than the file's " +
+                             std::to_string(available) + " bytes");
     throw fail(source, "shape " + toString(array.shape) + " needs " + std::to_string(expected) +
                            " data bytes but the file holds " + std::to_string(available));
   }
@@ -146,6 +235,7 @@ struct ZipCloser {
 using ZipHandle = std::unique_ptr<zip_t, ZipCloser>;
 
 ZipHandle openZip(const std::filesystem::path& path) {
+  requireReadableFile(path);
   int error = 0;
   zip_t* archive = zip_open(path.c_str(), ZIP_RDONLY, &error);
   if (!archive) {
@@ -158,15 +248,36 @@ ZipHandle openZip(const std::filesystem::path& path) {
   return ZipHandle(archive);
 }
 
+// The largest member read: a float field of kMaxGridCells vectors (3 GiB) and its header.
+constexpr zip_uint64_t kMaxMemberBytes = (zip_uint64_t{4} << 30) + (1 << 20);
+
 std::vector<std::byte> readMember(zip_t* archive, zip_uint64_t index, const std::string& source) {
   zip_stat_t stat;
-  if (zip_stat_index(archive, index, 0, &stat) != 0) throw fail(source, "cannot read zip entry");
+  if (zip_stat_index(archive, index, 0, &stat) != 0 || !(stat.valid & ZIP_STAT_SIZE))
+    throw fail(source, "cannot read zip entry");
+  if (stat.size > kMaxMemberBytes)
+    throw fail(source, "zip entry of " + std::to_string(stat.size) + " bytes, more than the " +
+                           std::to_string(kMaxMemberBytes) + " an array may take");
   std::unique_ptr<zip_file_t, int (*)(zip_file_t*)> file(zip_fopen_index(archive, index, 0), zip_fclose);
   if (!file) throw fail(source, std::string("cannot open zip entry: ") + zip_strerror(archive));
-  std::vector<std::byte> bytes(stat.size);
-  const zip_int64_t read = zip_fread(file.get(), bytes.data(), stat.size);
-  if (read < 0 || static_cast<zip_uint64_t>(read) != stat.size) throw fail(source, "truncated or corrupt zip entry");
+  // Read in chunks, so that a corrupt size claims no memory the data does not fill.
+  std::vector<std::byte> bytes;
+  std::vector<std::byte> chunk(1 << 20);
+  while (bytes.size() < stat.size) {
+    const zip_uint64_t want = std::min<zip_uint64_t>(chunk.size(), stat.size - bytes.size());
+    const zip_int64_t read = zip_fread(file.get(), chunk.data(), want);
+    if (read <= 0) break;
+    bytes.insert(bytes.end(), chunk.begin(), chunk.begin() + read);
+  }
+  if (bytes.size() != stat.size) throw fail(source, "truncated or corrupt zip entry");
   return bytes;
+}
+
+// The name of member `index`; Error if the archive holds none.
+std::string memberName(zip_t* archive, zip_uint64_t index, const std::filesystem::path& path) {
+  const char* name = zip_get_name(archive, index, 0);
+  if (name == nullptr) throw Error(path.string() + ": corrupt .npz (zip entry " + std::to_string(index) + " has no name)");
+  return name;
 }
 
 std::string keyOf(const std::string& member) {
@@ -180,8 +291,9 @@ std::map<std::string, NpyArray> readNpz(const std::filesystem::path& path) {
   std::map<std::string, NpyArray> arrays;
   const zip_int64_t count = zip_get_num_entries(archive.get(), 0);
   for (zip_int64_t i = 0; i < count; ++i) {
-    const std::string member = zip_get_name(archive.get(), static_cast<zip_uint64_t>(i), 0);
+    const std::string member = memberName(archive.get(), static_cast<zip_uint64_t>(i), path);
     const std::string source = path.string() + ":" + member;
+    if (arrays.contains(keyOf(member))) throw Error(source + ": the archive holds '" + keyOf(member) + "' twice");
     arrays[keyOf(member)] = parseNpy(readMember(archive.get(), static_cast<zip_uint64_t>(i), source), source);
   }
   return arrays;
@@ -194,7 +306,7 @@ NpyArray readNpzMember(const std::filesystem::path& path, const std::string& key
     std::string keys;
     const zip_int64_t count = zip_get_num_entries(archive.get(), 0);
     for (zip_int64_t i = 0; i < count; ++i)
-      keys += (keys.empty() ? "" : ", ") + keyOf(zip_get_name(archive.get(), static_cast<zip_uint64_t>(i), 0));
+      keys += (keys.empty() ? "" : ", ") + keyOf(memberName(archive.get(), static_cast<zip_uint64_t>(i), path));
     throw Error(path.string() + ": no array '" + key + "' (available: " + keys + ")");
   }
   const std::string source = path.string() + ":" + key + ".npy";

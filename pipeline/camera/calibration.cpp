@@ -5,6 +5,7 @@
 #include <glm/matrix.hpp>
 #include <nlohmann/json.hpp>
 
+#include "nets/io/file_io.h"
 #include "runtime/error.h"
 
 namespace smokesvd {
@@ -76,15 +77,23 @@ CalibratedView readView(const FieldReader& reader, const json& entry, const std:
     reader.fail(field + ".camera_angle_x", "a field of view in radians in (0, 3.1)");
   const std::vector<double> hw = reader.numbers(reader.member(entry, "camera_hw", field + ".camera_hw"),
                                                 field + ".camera_hw", 2);
-  if (hw[0] < 1 || hw[1] < 1 || hw[0] != std::floor(hw[0]) || hw[1] != std::floor(hw[1]))
-    reader.fail(field + ".camera_hw", "[height, width] as positive integers");
+  if (hw[0] < 1 || hw[1] < 1 || hw[0] > 65536 || hw[1] > 65536 || hw[0] != std::floor(hw[0]) ||
+      hw[1] != std::floor(hw[1]))
+    reader.fail(field + ".camera_hw", "[height, width] as whole numbers from 1 to 65536");
   view.height = static_cast<int>(hw[0]);
   view.width = static_cast<int>(hw[1]);
   view.cameraToWorld = reader.matrix(reader.member(entry, "transform_matrix", field + ".transform_matrix"),
                                      field + ".transform_matrix");
-  if (entry.contains("frame_rate")) view.frameRate = reader.number(entry["frame_rate"], field + ".frame_rate");
-  if (entry.contains("frame_num"))
-    view.frameCount = static_cast<int>(reader.number(entry["frame_num"], field + ".frame_num"));
+  if (entry.contains("frame_rate")) {
+    view.frameRate = reader.number(entry["frame_rate"], field + ".frame_rate");
+    if (view.frameRate < 0 || view.frameRate > 1e4) reader.fail(field + ".frame_rate", "frames per second from 0 to 10000");
+  }
+  if (entry.contains("frame_num")) {
+    const double count = reader.number(entry["frame_num"], field + ".frame_num");
+    if (count < 0 || count > 1e9 || count != std::floor(count))
+      reader.fail(field + ".frame_num", "a whole number of frames from 0 to 1e9");
+    view.frameCount = static_cast<int>(count);
+  }
   return view;
 }
 
@@ -109,11 +118,9 @@ const CalibratedView& Calibration::view(const std::string& fileName) const {
 }
 
 Calibration readCalibration(const std::filesystem::path& path) {
-  std::ifstream file(path);
-  if (!file) throw Error(path.string() + ": cannot open calibration file");
   json root;
   try {
-    root = json::parse(file);
+    root = json::parse(io::readTextFile(path));
   } catch (const json::exception& e) {
     throw Error(path.string() + ": not valid JSON (" + e.what() + ")");
   }

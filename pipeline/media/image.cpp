@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "nets/io/file_io.h"
 #include "runtime/error.h"
 
 #include <stb/stb_image.h>
@@ -22,9 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 
 std::vector<unsigned char> readBytes(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw Error(path.string() + ": cannot open image");
-  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  const std::string text = io::readTextFile(path);
+  return {text.begin(), text.end()};
 }
 
 uint32_t crc32(const unsigned char* data, std::size_t size, uint32_t crc = 0) {
@@ -128,17 +128,12 @@ void writePng(const fs::path& path, const Image& image, int bitDepth) {
   putChunk(png, "IDAT", {compressed.get(), compressed.get() + compressedLength});
   putChunk(png, "IEND", {});
 
-  fs::path temporary = path;
-  temporary += ".tmp";
-  {
+  io::writeAtomically(path, [&](const fs::path& temporary) {
     std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
     if (!file) throw Error(path.string() + ": cannot write (is the folder there and writable?)");
     file.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
     if (!file) throw Error(path.string() + ": write failed");
-  }
-  std::error_code error;
-  fs::rename(temporary, path, error);
-  if (error) throw Error(path.string() + ": cannot rename the written file into place: " + error.message());
+  });
 }
 
 Image toRgb(const Image& gray) {

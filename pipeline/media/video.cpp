@@ -8,12 +8,14 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "nets/io/temporary_files.h"
 #include "runtime/error.h"
 
 namespace smokesvd::media {
@@ -36,6 +38,10 @@ class ChildProcess {
     for (std::string& a : argv) raw.push_back(a.data());
     raw.push_back(nullptr);
     const std::string logPath = stderrPath_.string();
+    const std::string cannotRun = "cannot run " + program.string() + ": ";
+    // A child that exits early must make our writes fail (EPIPE), not kill this process with SIGPIPE.
+    static const bool sigpipeIgnored = std::signal(SIGPIPE, SIG_IGN) != SIG_ERR;
+    (void)sigpipeIgnored;
     pid_ = ::fork();
     if (pid_ < 0) throw Error("cannot start " + program.string() + ": " + std::strerror(errno));
     if (pid_ == 0) {
@@ -45,6 +51,9 @@ class ChildProcess {
       if (log >= 0) ::dup2(log, 2);
       for (int fd : {toChild[0], toChild[1], fromChild[0], fromChild[1]}) ::close(fd);
       ::execv(raw[0], raw.data());
+      const char* reason = std::strerror(errno);
+      [[maybe_unused]] ssize_t written = ::write(2, cannotRun.data(), cannotRun.size());
+      written = ::write(2, reason, std::strlen(reason));
       ::_exit(127);
     }
     ::close(toChild[0]);
@@ -128,14 +137,6 @@ class ChildProcess {
   fs::path stderrPath_;
 };
 
-fs::path requireFfmpeg(const fs::path& forFile) {
-  const std::optional<fs::path> ffmpeg = findFfmpeg();
-  if (!ffmpeg)
-    throw Error(forFile.string() + ": reading or writing video needs ffmpeg, which was not found (install it, e.g. "
-                "apt-get install ffmpeg, or set SMOKESVD_FFMPEG to its path); PNG frame folders work without it");
-  return *ffmpeg;
-}
-
 void requireReadable(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);
   if (!file || fs::is_directory(path)) throw Error(path.string() + ": cannot open video file");
@@ -148,11 +149,21 @@ double parseRate(const std::string& text) {
   return den > 0 ? std::atof(text.substr(0, slash).c_str()) / den : 0.0;
 }
 
+bool isExecutableFile(const fs::path& path) {
+  std::error_code error;
+  return fs::is_regular_file(path, error) && ::access(path.c_str(), X_OK) == 0;
+}
+
+const char* configuredFfmpeg() {
+  const char* configured = std::getenv("SMOKESVD_FFMPEG");
+  return configured != nullptr && *configured != '\0' ? configured : nullptr;
+}
+
 }  // namespace
 
 std::optional<fs::path> findFfmpeg() {
-  if (const char* configured = std::getenv("SMOKESVD_FFMPEG"); configured != nullptr && *configured != '\0') {
-    if (::access(configured, X_OK) == 0) return fs::path(configured);
+  if (const char* configured = configuredFfmpeg()) {
+    if (isExecutableFile(configured)) return fs::path(configured);
     return std::nullopt;
   }
   const char* path = std::getenv("PATH");
@@ -160,13 +171,22 @@ std::optional<fs::path> findFfmpeg() {
   std::string folder;
   while (std::getline(folders, folder, ':')) {
     const fs::path candidate = fs::path(folder.empty() ? "." : folder) / "ffmpeg";
-    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+    if (isExecutableFile(candidate)) return candidate;
   }
   return std::nullopt;
 }
 
+fs::path requireFfmpeg(const std::string& forWhat) {
+  if (std::optional<fs::path> ffmpeg = findFfmpeg()) return *ffmpeg;
+  if (const char* configured = configuredFfmpeg())
+    throw Error(forWhat + ": SMOKESVD_FFMPEG=" + configured + " is not an executable file (set it to ffmpeg's path, "
+                "or unset it to use the ffmpeg on PATH)");
+  throw Error(forWhat + ": reading or writing video needs ffmpeg, which was not found on PATH (install it, e.g. "
+              "apt-get install ffmpeg, or set SMOKESVD_FFMPEG to its path); PNG frame folders work without it");
+}
+
 VideoInfo probeVideo(const fs::path& path) {
-  const fs::path ffmpeg = requireFfmpeg(path);
+  const fs::path ffmpeg = requireFfmpeg(path.string());
   requireReadable(path);
   const fs::path ffprobe = ffmpeg.parent_path() / "ffprobe";
   ChildProcess child(ffprobe, {"-v", "error", "-select_streams", "v:0", "-show_entries",
@@ -193,7 +213,7 @@ VideoInfo probeVideo(const fs::path& path) {
 
 std::vector<Image> readVideoFrames(const fs::path& path, int first, int count) {
   const VideoInfo info = probeVideo(path);
-  const fs::path ffmpeg = requireFfmpeg(path);
+  const fs::path ffmpeg = requireFfmpeg(path.string());
   std::vector<std::string> arguments = {"-v", "error", "-nostdin"};
   if (first > 0 && info.frameRate > 0) {
     // Input seeking decodes from the keyframe before and drops frames earlier than the given time: half a
@@ -227,7 +247,9 @@ std::vector<Image> readVideoFrames(const fs::path& path, int first, int count) {
 
 void writeVideo(const fs::path& path, const std::vector<Image>& frames, double frameRate) {
   if (frames.empty()) throw Error(path.string() + ": no frames to write");
-  const fs::path ffmpeg = requireFfmpeg(path);
+  if (!(frameRate > 0 && frameRate <= 1000))
+    throw Error(path.string() + ": the frame rate must be above 0 and at most 1000, got " + std::to_string(frameRate));
+  const fs::path ffmpeg = requireFfmpeg(path.string());
   const int width = frames[0].width, height = frames[0].height;
   for (const Image& f : frames)
     if (f.width != width || f.height != height || f.channels != 1)
@@ -235,6 +257,7 @@ void writeVideo(const fs::path& path, const std::vector<Image>& frames, double f
                   std::to_string(height));
   fs::path temporary = path;
   temporary += ".tmp.mp4";
+  const io::InFlightTemporary inFlight(temporary);
   // H.264 in yuv420p needs even sizes: pad by one black row/column when odd.
   ChildProcess child(ffmpeg, {"-v", "error", "-nostdin", "-y", "-f", "rawvideo", "-pix_fmt", "gray", "-s",
                               std::to_string(width) + "x" + std::to_string(height), "-r", std::to_string(frameRate),

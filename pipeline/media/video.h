@@ -21,6 +21,9 @@ struct VideoInfo {
 
 // The ffmpeg executable, or nothing if it cannot be found.
 std::optional<std::filesystem::path> findFfmpeg();
+// The ffmpeg executable; else throws Error("<forWhat>: ...") saying why (not on PATH, or SMOKESVD_FFMPEG
+// names something that is not an executable file) and what to do.
+std::filesystem::path requireFfmpeg(const std::string& forWhat);
 
 VideoInfo probeVideo(const std::filesystem::path& path);
 // Frames [first, first + count) of a video (count < 0: to the end), decoded to gray.

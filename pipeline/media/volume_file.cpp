@@ -2,6 +2,7 @@
 
 #include <map>
 
+#include "nets/io/finite_values.h"
 #include "nets/io/npy.h"
 #include "runtime/error.h"
 
@@ -47,7 +48,11 @@ DensityVolume readDensityVolume(const std::filesystem::path& path, const std::st
   if (shape.size() != 3 || numElements(shape) == 0)
     throw Error(source + ": shape " + toString(array.shape) +
                 " is not a density volume; expected [z, y, x], [z, y, x, 1] or [1, 1, z, y, x]");
-  return {{.x = shape[2], .y = shape[1], .z = shape[0]}, array.toFloat()};
+  const GridSize grid{.x = shape[2], .y = shape[1], .z = shape[0]};
+  checkGridSize(grid, source);
+  std::vector<float> values = array.toFloat();
+  io::requireFiniteValues(values, array.shape, source, "densities");
+  return {grid, std::move(values)};
 }
 
 }  // namespace smokesvd::media

@@ -12,6 +12,10 @@ class TempDir {
  public:
   // Under the system's temporary directory, named smokesvd-<purpose>-XXXXXX.
   explicit TempDir(const std::string& purpose = "test");
+  // Under `parent` instead.
+  TempDir(const std::string& purpose, const std::filesystem::path& parent);
+  // /dev/shm where it exists (memory: thousands of small files in seconds), else the temporary directory.
+  static std::filesystem::path memoryBacked();
   ~TempDir();
   TempDir(const TempDir&) = delete;
   TempDir& operator=(const TempDir&) = delete;

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <thread>
 
@@ -120,9 +121,46 @@ TEST_F(NpyTest, RejectsBadFilesWithClearErrors) {
   expectError(replace("(4,)", "(9,)"), "needs 36 data bytes");  // header lies about the size
   expectError(std::vector<std::byte>(good.begin(), good.end() - 3), "data bytes");  // truncated
   expectError(std::vector<std::byte>(good.begin(), good.begin() + 5), "not a .npy");
+  // Headers are read exactly: a sign is not dropped, a lie about the size is not believed, every key
+  // is known and given once. withHeader() pads the dictionary as NumPy does and adds 16 data bytes.
+  auto withHeader = [](std::string header) {
+    header.append((64 - (10 + header.size() + 1) % 64) % 64, ' ');
+    header += '\n';
+    std::vector<std::byte> bytes(10 + header.size() + 16);
+    std::memcpy(bytes.data(), "\x93NUMPY\x01\x00", 8);
+    bytes[8] = static_cast<std::byte>(header.size() & 0xff);
+    bytes[9] = static_cast<std::byte>(header.size() >> 8);
+    std::memcpy(bytes.data() + 10, header.data(), header.size());
+    return bytes;
+  };
+  const std::string prefix = "{'descr': '<f4', 'fortran_order': False, 'shape': ";
+  writeBytes(path("good.npy"), withHeader(prefix + "(4,), }"));
+  EXPECT_EQ(io::readNpy(path("good.npy")).shape, (Shape{4}));  // the control
+  expectError(withHeader(prefix + "(-16, 28, 16), }"), "negative dimension in shape (-16, 28, 16)");
+  expectError(withHeader(prefix + "(4a), }"), "expected ','");
+  expectError(withHeader(prefix + "(99999999999999999999,), }"), "is too large");
+  expectError(withHeader(prefix + "(1048576, 1048576, 1048576), }"), "needs more data than the file's 16 bytes");
+  expectError(withHeader(prefix + "(4,), 'extra': 1, }"), "unknown key 'extra'");
+  expectError(withHeader("{'descr': '<f4', 'descr': '<f4', 'fortran_order': False, 'shape': (4,)}"), "gives 'descr' twice");
+  expectError(withHeader("{'descr': '<f4', 'shape': (4,)}"), "no 'fortran_order' field");
+  expectError(withHeader(prefix + "(4,)} trailing"), "text after its dictionary");
   writeBytes(path("bad.npz"), good);
   EXPECT_THROW(io::readNpz(path("bad.npz")), Error);
   EXPECT_THROW(io::readNpy(path("missing.npy")), Error);
+  std::filesystem::create_directories(path("folder.npy"));
+  std::filesystem::create_directories(path("folder.npz"));
+  for (const auto& [read, name] : {std::pair<std::function<void()>, std::string>{[&] { io::readNpy(path("folder.npy")); }, "folder.npy"},
+                                   {[&] { io::readNpz(path("folder.npz")); }, "folder.npz"},
+                                   {[&] { io::readNpy(path("missing.npy")); }, "missing.npy"}}) {
+    try {
+      read();
+      ADD_FAILURE() << name;
+    } catch (const Error& error) {
+      EXPECT_NE(std::string(error.what()).find(name + (name == "missing.npy" ? ": no such file" : ": is a folder, expected a file")),
+                std::string::npos)
+          << error.what();
+    }
+  }
 }
 
 }  // namespace

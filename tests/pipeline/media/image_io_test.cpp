@@ -67,7 +67,7 @@ TEST_F(ImageIoTest, RgbPngReadsAsLuminance) {
 TEST_F(ImageIoTest, BadPngFilesGiveErrorsNamingThem) {
   writeText(path("broken.png"), "this is not a png");
   EXPECT_NE(errorOf([&] { media::readPng(path("broken.png")); }).find("broken.png: not a readable PNG"), std::string::npos);
-  EXPECT_NE(errorOf([&] { media::readPng(path("missing.png")); }).find("missing.png: cannot open"), std::string::npos);
+  EXPECT_NE(errorOf([&] { media::readPng(path("missing.png")); }).find("missing.png: no such file"), std::string::npos);
   EXPECT_NE(errorOf([&] { media::writePng(path("no/such/folder/x.png"), ramp(3, 3)); }).find("cannot write"),
             std::string::npos);
   EXPECT_NE(errorOf([&] { media::writePng(path("x.png"), ramp(3, 3), 12); }).find("bit depth"), std::string::npos);
@@ -99,8 +99,17 @@ TEST_F(ImageIoTest, MissingFfmpegIsAClearError) {
   const std::string writeMessage = errorOf([&] { media::writeVideo(path("out.mp4"), {ramp(4, 4)}); });
   if (previous) ::setenv("SMOKESVD_FFMPEG", saved.c_str(), 1);
   else ::unsetenv("SMOKESVD_FFMPEG");
-  EXPECT_NE(message.find("needs ffmpeg"), std::string::npos) << message;
-  EXPECT_NE(writeMessage.find("needs ffmpeg"), std::string::npos) << writeMessage;
+  EXPECT_NE(message.find("SMOKESVD_FFMPEG=/nonexistent/ffmpeg is not an executable file"), std::string::npos) << message;
+  EXPECT_NE(writeMessage.find("SMOKESVD_FFMPEG=/nonexistent/ffmpeg is not an executable file"), std::string::npos)
+      << writeMessage;
+  // Not configured and not on PATH.
+  const std::string searchPath = std::getenv("PATH") ? std::getenv("PATH") : "";
+  ::setenv("PATH", "/nonexistent", 1);
+  ::unsetenv("SMOKESVD_FFMPEG");
+  const std::string notFound = errorOf([&] { media::writeVideo(path("out.mp4"), {ramp(4, 4)}); });
+  ::setenv("PATH", searchPath.c_str(), 1);
+  if (previous) ::setenv("SMOKESVD_FFMPEG", saved.c_str(), 1);
+  EXPECT_NE(notFound.find("needs ffmpeg, which was not found on PATH"), std::string::npos) << notFound;
 }
 
 TEST_F(ImageIoTest, VideoRoundTrip) {
