@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <initializer_list>
 #include <string>
 
 #include "nets/ops/elementwise.h"
@@ -255,7 +257,15 @@ using namespace pressure_ops;
 
 namespace {
 
-constexpr int kScalarMaxR = 3, kScalarMaxB = 4;  // slots, as in shaders/physics/pressure_scalars.glsl
+// Slots, as in shaders/physics/pressure_scalars.glsl.
+constexpr int kScalarRz = 0, kScalarMaxR = 3, kScalarMaxB = 4, kScalarMeanR = 6;
+
+// GPU max() may drop a NaN, so sums, which keep it, are checked too: r·z, and the mean of r at the start.
+bool finiteScalars(const std::vector<float>& s, std::initializer_list<int> slots) {
+  for (int slot : slots)
+    if (!std::isfinite(s[static_cast<std::size_t>(slot)])) return false;
+  return true;
+}
 
 }  // namespace
 
@@ -399,6 +409,7 @@ PressureReport PressureSolver::start(const Tensor& velocity, bool fromZero) {
   PressureReport report;
   report.initialDivergence = s[kScalarMaxB];
   report.residual = s[kScalarMaxR];
+  report.finite = finiteScalars(s, {kScalarMaxB, kScalarMaxR, kScalarMeanR});
   return report;
 }
 
@@ -409,16 +420,18 @@ PressureReport PressureSolver::project(const Tensor& velocity, const Tensor& vel
     throw Error("pressure projection: the output velocity must not alias the input");
   PressureReport report = start(velocity, !options_.warmStart);
   // A previous pressure that fits worse than none (the flow changed completely) is dropped.
-  if (options_.warmStart && report.residual > report.initialDivergence) report = start(velocity, true);
+  if (options_.warmStart && (report.residual > report.initialDivergence || !report.finite)) report = start(velocity, true);
   const double target = std::max(options_.tolerance * report.initialDivergence, options_.absoluteTolerance);
   int parity = 0;
-  report.converged = report.residual <= target;
-  while (!report.converged && report.iterations < options_.maxIterations) {
+  report.converged = report.finite && report.residual <= target;
+  while (report.finite && !report.converged && report.iterations < options_.maxIterations) {
     iteration_[parity]->submit();
     parity = 1 - parity;
     ++report.iterations;
-    report.residual = scalars_.download()[kScalarMaxR];
-    report.converged = report.residual <= target;
+    const std::vector<float> s = scalars_.download();
+    report.residual = s[kScalarMaxR];
+    report.finite = finiteScalars(s, {kScalarRz, kScalarMaxR});
+    report.converged = report.finite && report.residual <= target;
   }
   report.relativeResidual = report.initialDivergence > 0 ? report.residual / report.initialDivergence : 0;
   Stream finish(context_);

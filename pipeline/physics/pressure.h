@@ -42,7 +42,8 @@ struct PressureReport {
   double initialDivergence = 0;   // max |div u| over fluid cells before the projection
   double residual = 0;            // max |r| at the end: max |div u| left after the projection
   double relativeResidual = 0;    // residual / initialDivergence (0 when there was nothing to remove)
-  bool converged = false;
+  bool converged = false;         // never when !finite
+  bool finite = true;             // false when the velocity or the solve held NaN or infinity
 };
 
 class PressureSolver {

@@ -27,7 +27,7 @@ FrameRenderer::FrameRenderer(const Scene& scene)
     : spec_(scene.render),
       cameras_(orbitCameras(orbitAngles(spec_.views), scene.resolution, spec_.width, spec_.height)) {}
 
-void FrameRenderer::write(const std::filesystem::path& directory, const Simulator& simulator) const {
+void FrameRenderer::write(RunFiles& files, const Simulator& simulator) const {
   const std::vector<media::Image> images =
       render::renderImages(simulator.density().context(), simulator.density(), cameras_, renderSettings(spec_),
                            static_cast<float>(spec_.exposure));
@@ -35,9 +35,8 @@ void FrameRenderer::write(const std::filesystem::path& directory, const Simulato
   for (std::size_t v = 0; v < images.size(); ++v) {
     char view[32];
     std::snprintf(view, sizeof view, "view_%02zu", v);
-    const std::filesystem::path folder = directory / "renders" / view;
-    std::filesystem::create_directories(folder);
-    media::writePng(folder / (frame + ".png"), images[v], 16);
+    std::filesystem::create_directories(files.directory() / "renders" / view);
+    media::writePng(files.add("renders/" + std::string(view) + "/" + frame + ".png"), images[v], 16);
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include "pipeline/camera/camera.h"
 #include "pipeline/render/renderer.h"
+#include "pipeline/sim/run_files.h"
 #include "pipeline/sim/simulator.h"
 
 namespace smokesvd::sim {
@@ -18,7 +19,7 @@ class FrameRenderer {
  public:
   explicit FrameRenderer(const Scene& scene);
   // The PNGs of the simulator's last completed frame.
-  void write(const std::filesystem::path& directory, const Simulator& simulator) const;
+  void write(RunFiles& files, const Simulator& simulator) const;
 
  private:
   RenderSpec spec_;

@@ -73,6 +73,12 @@ double JsonField::positive() const {
   return v;
 }
 
+double JsonField::positive(double high) const {
+  const double v = value_->is_number() ? value_->get<double>() : NAN;
+  if (!(v > 0 && v <= high)) fail("a number above 0 and at most " + describe(high));
+  return v;
+}
+
 int64_t JsonField::integer(int64_t low, int64_t high) const {
   if (!value_->is_number_integer()) fail("an integer in [" + std::to_string(low) + ", " + std::to_string(high) + "]");
   const int64_t v = value_->is_number_unsigned() ? static_cast<int64_t>(std::min<uint64_t>(value_->get<uint64_t>(), INT64_MAX))
@@ -112,9 +118,17 @@ Vec3 JsonField::vec3() const {
   return v;
 }
 
-Vec3 JsonField::positiveVec3() const {
+Vec3 JsonField::vec3(double limit) const {
+  const Vec3 v = vec3();
+  for (int a = 0; a < 3; ++a)
+    if (!(std::abs(v[a]) <= limit)) fail("three numbers [x, y, z] from " + describe(-limit) + " to " + describe(limit));
+  return v;
+}
+
+Vec3 JsonField::positiveVec3(double limit) const {
   const Vec3 v = value_->is_array() && value_->size() == 3 ? vec3() : Vec3{-1, -1, -1};
-  if (!(v[0] > 0 && v[1] > 0 && v[2] > 0)) fail("three positive numbers [x, y, z]");
+  for (int a = 0; a < 3; ++a)
+    if (!(v[a] > 0 && v[a] <= limit)) fail("three numbers [x, y, z] above 0 and at most " + describe(limit));
   return v;
 }
 

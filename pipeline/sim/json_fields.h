@@ -35,12 +35,14 @@ class JsonField {
   double number() const;
   double number(double low, double high) const;  // in [low, high]
   double positive() const;                       // > 0
+  double positive(double high) const;            // in (0, high]
   int64_t integer(int64_t low, int64_t high) const;
   bool boolean() const;
   std::string string() const;
   std::string oneOf(std::initializer_list<const char*> choices) const;
   Vec3 vec3() const;
-  Vec3 positiveVec3() const;
+  Vec3 vec3(double limit) const;          // every component in [-limit, limit]
+  Vec3 positiveVec3(double limit) const;  // every component in (0, limit]
 
  private:
   const nlohmann::json* value_;

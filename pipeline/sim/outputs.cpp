@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "nets/io/finite_values.h"
 #include "nets/io/npy.h"
 #include "pipeline/physics/grid.h"
 #include "runtime/error.h"
@@ -51,24 +52,39 @@ void writeFields(const fs::path& directory, int frame, const GridSize& grid, con
   io::writeNpz(fields / ("inflow_" + name + ".npz"), {{"inflow", volumeArray(grid, inflow)}});
 }
 
-void writeFrameFields(const fs::path& directory, const Simulator& simulator) {
-  const GridSize& grid = simulator.grid();
-  const int frame = simulator.frame() - 1;
-  writeFields(directory, frame, grid, simulator.density().download(), simulator.velocity().download(),
-              simulator.inflow().download());
-  if (const Tensor* temperature = simulator.temperature())
-    io::writeNpz(directory / "fields" / ("temperature_" + frameName(frame) + ".npz"),
-                 {{"temperature", volumeArray(grid, temperature->download())}});
+namespace {
+
+// A field of the frame just simulated, which must be finite: a NaN or infinity stops the run, naming the
+// frame, the field and the first bad element, before anything of the frame is written.
+io::NpyArray checkedField(const io::NpyArray& array, const Simulator& simulator, const std::string& field) {
+  io::requireFiniteValues(array.floats, array.shape, "frame " + std::to_string(simulator.frame() - 1) + ": " + field,
+                          std::string("the state (") + kBlownUp + ")");
+  return array;
 }
 
-void writeFlags(const fs::path& directory, const Simulator& simulator) {
+}  // namespace
+
+void writeFrameFields(RunFiles& files, const Simulator& simulator) {
+  const GridSize& grid = simulator.grid();
+  const std::string frame = frameName(simulator.frame() - 1);
+  std::map<std::string, io::NpyArray> arrays;
+  arrays["density"] = checkedField(volumeArray(grid, simulator.density().download()), simulator, "density");
+  arrays["velocity"] = checkedField(vectorArray(grid, simulator.velocity().download()), simulator, "velocity");
+  arrays["inflow"] = checkedField(volumeArray(grid, simulator.inflow().download()), simulator, "inflow");
+  if (const Tensor* temperature = simulator.temperature())
+    arrays["temperature"] = checkedField(volumeArray(grid, temperature->download()), simulator, "temperature");
+  fs::create_directories(files.directory() / "fields");
+  for (const auto& [name, array] : arrays) io::writeNpz(files.add("fields/" + name + "_" + frame + ".npz"), {{name, array}});
+}
+
+void writeFlags(RunFiles& files, const Simulator& simulator) {
   const std::vector<float> flags = simulator.flags().download();
   const GridSize& grid = simulator.grid();
-  io::writeNpz(directory / "flags.npz",
+  io::writeNpz(files.add("flags.npz"),
                {{"flags", io::NpyArray::fromInts({grid.z, grid.y, grid.x}, std::vector<int32_t>(flags.begin(), flags.end()))}});
 }
 
-void writeCheckpoint(const fs::path& directory, const Simulator& simulator) {
+void writeCheckpoint(RunFiles& files, const Simulator& simulator) {
   const SimulatorState state = simulator.state();
   const GridSize& grid = simulator.grid();
   std::map<std::string, io::NpyArray> arrays = {
@@ -78,12 +94,12 @@ void writeCheckpoint(const fs::path& directory, const Simulator& simulator) {
       {"pressure", volumeArray(grid, state.pressure)},
   };
   if (!state.temperature.empty()) arrays.emplace("temperature", volumeArray(grid, state.temperature));
-  io::writeNpz(directory / "checkpoint.npz", arrays, false);
+  io::writeNpz(files.add("checkpoint.npz"), arrays, false);
 }
 
-std::optional<SimulatorState> readCheckpoint(const fs::path& directory, const Scene& scene) {
-  const fs::path path = directory / "checkpoint.npz";
-  if (!fs::exists(path)) return std::nullopt;
+namespace {
+
+SimulatorState parseCheckpoint(const fs::path& path, const Scene& scene) {
   const std::map<std::string, io::NpyArray> arrays = io::readNpz(path);
   auto member = [&](const char* key) -> const io::NpyArray& {
     auto it = arrays.find(key);
@@ -106,7 +122,24 @@ std::optional<SimulatorState> readCheckpoint(const fs::path& directory, const Sc
   state.pressure = member("pressure").toFloat();
   state.velocity = planarFrom(member("velocity"));
   if (scene.tracksTemperature()) state.temperature = member("temperature").toFloat();
+  for (const auto& [name, values] : {std::pair{"density", &state.density}, {"velocity", &state.velocity},
+                                     {"pressure", &state.pressure}, {"temperature", &state.temperature}})
+    io::requireFiniteValues(*values, {static_cast<int64_t>(values->size())}, path.string() + ": '" + name + "'",
+                            "a checkpoint's state");
   return state;
+}
+
+}  // namespace
+
+std::optional<SimulatorState> readCheckpoint(const fs::path& directory, const Scene& scene) {
+  const fs::path path = directory / "checkpoint.npz";
+  if (!fs::exists(path)) return std::nullopt;
+  try {
+    return parseCheckpoint(path, scene);
+  } catch (const Error& error) {
+    throw Error(std::string(error.what()) + " -- the checkpoint is unusable: delete " + path.string() +
+                " to simulate the scene again from its first frame, or run with --overwrite");
+  }
 }
 
 }  // namespace smokesvd::sim

@@ -1,10 +1,13 @@
 #include "pipeline/sim/run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 
+#include "nets/io/file_io.h"
 #include "pipeline/sim/frame_render.h"
 #include "pipeline/sim/outputs.h"
+#include "pipeline/sim/run_files.h"
 #include "runtime/error.h"
 
 namespace smokesvd::sim {
@@ -12,30 +15,38 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool isComplete(const fs::path& directory) {
+// The frames a run in `directory` has written, per its run.json (0 if it has none).
+int framesWritten(const fs::path& directory) {
   std::ifstream in(directory / "run.json");
-  if (!in) return false;
+  if (!in) return 0;
   const nlohmann::json status = nlohmann::json::parse(in, nullptr, false);
-  return status.is_object() && status.value("complete", false);
+  if (!status.is_object() || status.find("complete") == status.end() || status["complete"] != true) return 0;
+  const auto frames = status.find("frames");
+  return frames != status.end() && frames->is_number_integer() ? static_cast<int>(std::clamp<int64_t>(frames->get<int64_t>(), 0, kMaxFrames)) : 0;
 }
 
-void writeRunStatus(const fs::path& directory, int frames) {
-  const fs::path temporary = directory / "run.json.tmp";
-  {
+void writeRunStatus(RunFiles& files, int frames) {
+  io::writeAtomically(files.add("run.json"), [&](const fs::path& temporary) {
     std::ofstream out(temporary);
     out << nlohmann::json{{"complete", true}, {"frames", frames}}.dump(2) << "\n";
     if (!out) throw Error(temporary.string() + ": cannot write the run status");
-  }
-  fs::rename(temporary, directory / "run.json");
+  });
 }
 
-// True if the directory already holds this scene; Error if it holds another one.
+// The scene as it is compared for resuming: everything but its frame count, which a run may extend.
+nlohmann::json withoutFrames(const Scene& scene) {
+  nlohmann::json json = sceneToJson(scene);
+  json.erase("frames");
+  return json;
+}
+
+// True if the directory already holds this scene (of any frame count); Error if it holds another one.
 bool holdsScene(const fs::path& directory, const Scene& scene) {
   const fs::path path = directory / "scene.json";
   if (!fs::exists(path)) return false;
-  if (sceneToJson(readScene(path)) != sceneToJson(scene))
+  if (withoutFrames(readScene(path)) != withoutFrames(scene))
     throw Error(path.string() + " describes a different scene; pass --overwrite to replace that run or choose "
-                "another output directory");
+                "another output directory (to add frames to that run, give --scene " + path.string() + " --frames N)");
   return true;
 }
 
@@ -43,32 +54,29 @@ bool holdsScene(const fs::path& directory, const Scene& scene) {
 
 RunResult runScene(Context& context, const Scene& scene, const fs::path& directory, const RunOptions& options) {
   RunResult result;
-  fs::create_directories(directory);
-  if (options.overwrite) {
-    for (const char* stale : {"run.json", "checkpoint.npz", "flags.npz", "fields", "renders"}) fs::remove_all(directory / stale);
-  } else if (holdsScene(directory, scene) && isComplete(directory)) {
+  if (options.overwrite) RunFiles::remove(directory);
+  RunFiles files(directory);
+  files.removeTemporaries();
+  if (holdsScene(directory, scene) && framesWritten(directory) >= scene.frames) {
     result.complete = true;
     return result;
   }
-  writeScene(directory / "scene.json", scene);
-
-  Simulator simulator(context, scene);
-  if (!options.overwrite) {
-    if (std::optional<SimulatorState> state = readCheckpoint(directory, scene)) {
-      simulator.restore(*state);
-      result.resumed = true;
-    }
+  Simulator simulator(context, scene);  // reads the force fields: a bad one stops the run before any file
+  writeScene(files.add("scene.json"), scene);
+  if (std::optional<SimulatorState> state = readCheckpoint(directory, scene)) {
+    simulator.restore(*state);
+    result.resumed = true;
   }
-  if (simulator.frame() == 0) writeFlags(directory, simulator);
+  if (simulator.frame() == 0) writeFlags(files, simulator);
   std::optional<FrameRenderer> renderer;
   if (options.render && scene.render.enabled) renderer.emplace(scene);
 
   const auto start = std::chrono::steady_clock::now();
   while (simulator.frame() < scene.frames && (options.maxFrames < 0 || result.framesSimulated < options.maxFrames)) {
     const FrameReport report = simulator.advanceFrame();
-    writeFrameFields(directory, simulator);
-    if (renderer) renderer->write(directory, simulator);
-    writeCheckpoint(directory, simulator);
+    writeFrameFields(files, simulator);
+    if (renderer) renderer->write(files, simulator);
+    writeCheckpoint(files, simulator);
     ++result.framesSimulated;
     if (options.progress) {
       RunProgress progress;
@@ -81,8 +89,7 @@ RunResult runScene(Context& context, const Scene& scene, const fs::path& directo
     }
   }
   if (simulator.frame() == scene.frames) {
-    writeRunStatus(directory, scene.frames);
-    fs::remove(directory / "checkpoint.npz");
+    writeRunStatus(files, scene.frames);
     result.complete = true;
   }
   return result;

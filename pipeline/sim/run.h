@@ -1,7 +1,10 @@
 // Running a scene into an output directory, frame by frame, resumable: after each frame's files the
 // simulator state goes to checkpoint.npz (temporary name, then renamed); a later run of the same scene
 // into the same directory restores it and continues with the next frame, so an interrupted run ends
-// with exactly the files an uninterrupted one writes. A finished run leaves run.json and no checkpoint.
+// with exactly the files an uninterrupted one writes. A finished run leaves run.json and keeps its
+// checkpoint, so the same scene with more frames extends it. Every file is listed in the run's manifest
+// (run_files.h) before it is written; --overwrite deletes only those, and refuses a folder that is not a
+// run.
 #pragma once
 
 #include <filesystem>
@@ -23,7 +26,7 @@ struct RunProgress {
 
 struct RunOptions {
   bool render = true;       // write the orbit-view PNGs of every frame
-  bool overwrite = false;   // discard a previous run in the directory instead of resuming it
+  bool overwrite = false;   // discard a previous run in the directory (its files only) instead of resuming it
   int maxFrames = -1;       // stop after this many frames in this call (-1: run to the end)
   std::function<void(const RunProgress&)> progress;  // called after every frame
 };

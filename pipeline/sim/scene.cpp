@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "nets/io/file_io.h"
 #include "pipeline/sim/json_fields.h"
 #include "runtime/error.h"
 
@@ -12,8 +13,12 @@ namespace {
 using nlohmann::json;
 using physics::SourceShape;
 
-constexpr int64_t kMaxSide = 1024;
-constexpr int kMaxFrames = 1000000;
+// Bounds of the physical numbers, far beyond any sensible scene but small enough that float32 kernels
+// neither overflow nor lose them (a source of radius 1e30 would add nothing).
+constexpr double kMaxLength = 1e5;        // cells: centres, sizes, radii, noise scale
+constexpr double kMaxSpeed = 1e4;         // cells per step
+constexpr double kMaxAcceleration = 1e4;  // cells per step²: gravity, wind
+constexpr double kMaxCoefficient = 1e4;   // buoyancy per unit density or temperature, force-field scale
 const char* const kBoundaryNames[6] = {"x_low", "x_high", "y_low", "y_high", "z_low", "z_high"};
 
 double lerp(double a, double b, double t) { return a + (b - a) * t; }
@@ -30,7 +35,7 @@ Keyframes<T> readKeyframes(const JsonField& field, bool isConstant, ReadValue re
   for (const JsonField& item : items) {
     const std::vector<JsonField> pair = item.items();
     if (pair.size() != 2) item.fail("a keyframe [frame, value]");
-    const double frame = pair[0].number();
+    const double frame = pair[0].number(-kMaxFrames, kMaxFrames);
     if (!result.points.empty() && frame <= result.points.back().first) pair[0].fail("a frame after the previous keyframe's");
     result.points.emplace_back(frame, readValue(pair[1]));
   }
@@ -42,9 +47,9 @@ Keyframes<double> readScalarKeyframes(const JsonField& field, double low, double
                                [&](const JsonField& f) { return f.number(low, high); });
 }
 
-Keyframes<Vec3> readVectorKeyframes(const JsonField& field) {
+Keyframes<Vec3> readVectorKeyframes(const JsonField& field, double limit) {
   const bool isConstant = field.json().is_array() && !field.json().empty() && field.json()[0].is_number();
-  return readKeyframes<Vec3>(field, isConstant, [](const JsonField& f) { return f.vec3(); });
+  return readKeyframes<Vec3>(field, isConstant, [limit](const JsonField& f) { return f.vec3(limit); });
 }
 
 FrameRange readFrameRange(const JsonField& parent) {
@@ -63,18 +68,18 @@ FrameRange readFrameRange(const JsonField& parent) {
 Geometry readShape(const JsonField& object) {
   Geometry shape;
   const std::string kind = object.at("shape").oneOf({"sphere", "box", "cylinder"});
-  shape.centre = object.at("centre").vec3();
+  shape.centre = object.at("centre").vec3(kMaxLength);
   if (kind == "sphere") {
     shape.kind = SourceShape::Sphere;
-    shape.size = {object.at("radius").positive(), 0, 0};
+    shape.size = {object.at("radius").positive(kMaxLength), 0, 0};
   } else if (kind == "box") {
     shape.kind = SourceShape::Box;
-    shape.size = object.at("half_size").positiveVec3();
+    shape.size = object.at("half_size").positiveVec3(kMaxLength);
   } else {
     shape.kind = SourceShape::Cylinder;
-    shape.size = {object.at("radius").positive(), object.at("half_height").positive(), 0};
+    shape.size = {object.at("radius").positive(kMaxLength), object.at("half_height").positive(kMaxLength), 0};
     if (std::optional<JsonField> axis = object.find("axis")) {
-      shape.axis = axis->vec3();
+      shape.axis = axis->vec3(kMaxLength);
       if (shape.axis == Vec3{0, 0, 0}) axis->fail("a non-zero axis");
     }
   }
@@ -97,12 +102,12 @@ Source readSource(const JsonField& object) {
   if (std::optional<JsonField> density = object.find("density")) source.density = readScalarKeyframes(*density, 0, 1e6);
   if (std::optional<JsonField> temperature = object.find("temperature"))
     source.temperature = readScalarKeyframes(*temperature, 0, 1e6);
-  if (std::optional<JsonField> velocity = object.find("velocity")) source.velocity = readVectorKeyframes(*velocity);
+  if (std::optional<JsonField> velocity = object.find("velocity")) source.velocity = readVectorKeyframes(*velocity, kMaxSpeed);
   if (std::optional<JsonField> noise = object.find("noise")) {
     noise->allowOnly({"amplitude", "scale", "velocity", "seed"});
     if (std::optional<JsonField> f = noise->find("amplitude")) source.noise.amplitude = f->number(0, 1);
-    if (std::optional<JsonField> f = noise->find("scale")) source.noise.scale = f->positive();
-    if (std::optional<JsonField> f = noise->find("velocity")) source.noise.velocity = f->vec3();
+    if (std::optional<JsonField> f = noise->find("scale")) source.noise.scale = f->positive(kMaxLength);
+    if (std::optional<JsonField> f = noise->find("velocity")) source.noise.velocity = f->vec3(kMaxSpeed);
     if (std::optional<JsonField> f = noise->find("seed")) source.noise.seed = static_cast<uint32_t>(f->integer(0, 0xffffff));
   }
   return source;
@@ -115,7 +120,7 @@ ForceField readForceField(const JsonField& object, const std::filesystem::path& 
   if (file.empty()) object.at("file").fail("a file name");
   field.file = std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : base / file;
   if (std::optional<JsonField> key = object.find("key")) field.key = key->string();
-  if (std::optional<JsonField> scale = object.find("scale")) field.scale = scale->number();
+  if (std::optional<JsonField> scale = object.find("scale")) field.scale = scale->number(-kMaxCoefficient, kMaxCoefficient);
   field.frames = readFrameRange(object);
   return field;
 }
@@ -127,13 +132,13 @@ RenderSpec readRender(const JsonField& object) {
   if (std::optional<JsonField> f = object.find("views")) render.views = static_cast<int>(f->integer(1, 360));
   if (std::optional<JsonField> f = object.find("width")) render.width = static_cast<int>(f->integer(1, 8192));
   if (std::optional<JsonField> f = object.find("height")) render.height = static_cast<int>(f->integer(1, 8192));
-  if (std::optional<JsonField> f = object.find("step")) render.step = f->positive();
+  if (std::optional<JsonField> f = object.find("step")) render.step = f->number(0.01, 100);
   if (std::optional<JsonField> f = object.find("absorption")) render.absorption = f->number(0, 1e6);
   if (std::optional<JsonField> f = object.find("ambient")) render.ambient = f->number(0, 1e6);
-  if (std::optional<JsonField> f = object.find("exposure")) render.exposure = f->positive();
+  if (std::optional<JsonField> f = object.find("exposure")) render.exposure = f->positive(1e6);
   if (std::optional<JsonField> light = object.find("light")) {
     light->allowOnly({"direction", "intensity", "absorption"});
-    render.lightDirection = light->at("direction").vec3();
+    render.lightDirection = light->at("direction").vec3(kMaxLength);
     if (*render.lightDirection == Vec3{0, 0, 0}) light->at("direction").fail("a non-zero direction");
     if (std::optional<JsonField> f = light->find("intensity")) render.lightIntensity = f->number(0, 1e6);
     if (std::optional<JsonField> f = light->find("absorption")) render.lightAbsorption = f->number(0, 1e6);
@@ -207,12 +212,14 @@ Scene parseScene(const json& document, const std::string& name, const std::files
     const JsonField resolution = root.at("resolution");
     const std::vector<JsonField> sides = resolution.items();
     if (sides.size() != 3) resolution.fail("three cell counts [x, y, z]");
-    scene.resolution = {.x = sides[0].integer(3, kMaxSide), .y = sides[1].integer(3, kMaxSide),
-                        .z = sides[2].integer(3, kMaxSide)};
+    scene.resolution = {.x = sides[0].integer(kMinSceneSide, kMaxGridSide),
+                        .y = sides[1].integer(kMinSceneSide, kMaxGridSide),
+                        .z = sides[2].integer(kMinSceneSide, kMaxGridSide)};
+    checkGridSize(scene.resolution, name + ": field 'resolution'");
   }
   scene.frames = static_cast<int>(root.at("frames").integer(1, kMaxFrames));
   if (std::optional<JsonField> f = root.find("steps_per_frame")) scene.stepsPerFrame = static_cast<int>(f->integer(1, 1000));
-  if (std::optional<JsonField> f = root.find("dt")) scene.dt = f->positive();
+  if (std::optional<JsonField> f = root.find("dt")) scene.dt = f->positive(1e3);
   if (std::optional<JsonField> boundaries = root.find("boundaries")) {
     boundaries->allowOnly({"x_low", "x_high", "y_low", "y_high", "z_low", "z_high"});
     for (int side = 0; side < 6; ++side)
@@ -233,15 +240,17 @@ Scene parseScene(const json& document, const std::string& name, const std::files
     if (std::optional<JsonField> f = pressure->find("max_iterations"))
       scene.pressureMaxIterations = static_cast<int>(f->integer(1, 10000));
   }
-  if (std::optional<JsonField> f = root.find("gravity")) scene.gravity = f->vec3();
+  if (std::optional<JsonField> f = root.find("gravity")) scene.gravity = f->vec3(kMaxAcceleration);
   if (std::optional<JsonField> buoyancy = root.find("buoyancy")) {
     buoyancy->allowOnly({"density", "temperature"});
-    if (std::optional<JsonField> f = buoyancy->find("density")) scene.densityBuoyancy = f->number();
-    if (std::optional<JsonField> f = buoyancy->find("temperature")) scene.temperatureBuoyancy = f->number();
+    if (std::optional<JsonField> f = buoyancy->find("density"))
+      scene.densityBuoyancy = f->number(-kMaxCoefficient, kMaxCoefficient);
+    if (std::optional<JsonField> f = buoyancy->find("temperature"))
+      scene.temperatureBuoyancy = f->number(-kMaxCoefficient, kMaxCoefficient);
   }
   if (std::optional<JsonField> wind = root.find("wind")) {
     wind->allowOnly({"acceleration", "weighting"});
-    scene.wind = readVectorKeyframes(wind->at("acceleration"));
+    scene.wind = readVectorKeyframes(wind->at("acceleration"), kMaxAcceleration);
     if (std::optional<JsonField> f = wind->find("weighting"))
       scene.windWeighting = f->oneOf({"density", "uniform"}) == "density" ? WindWeighting::Density : WindWeighting::Uniform;
   }
@@ -259,12 +268,10 @@ Scene parseScene(const json& document, const std::string& name, const std::files
 }
 
 Scene readScene(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path.string() + ": cannot open the scene file");
   json document;
   try {
-    document = json::parse(in);
-  } catch (const json::parse_error& error) {
+    document = json::parse(io::readTextFile(path));
+  } catch (const json::exception& error) {  // syntax, or a number beyond double
     throw Error(path.string() + ": not valid JSON (" + error.what() + ")");
   }
   return parseScene(document, path.string(), std::filesystem::absolute(path).parent_path());
@@ -325,14 +332,12 @@ json sceneToJson(const Scene& scene) {
 }
 
 void writeScene(const std::filesystem::path& path, const Scene& scene) {
-  const std::filesystem::path temporary = path.string() + ".tmp";
-  {
+  io::writeAtomically(path, [&](const std::filesystem::path& temporary) {
     std::ofstream out(temporary);
     if (!out) throw Error(temporary.string() + ": cannot write the scene file");
     out << sceneToJson(scene).dump(2) << "\n";
     if (!out) throw Error(temporary.string() + ": writing the scene file failed");
-  }
-  std::filesystem::rename(temporary, path);
+  });
 }
 
 }  // namespace smokesvd::sim

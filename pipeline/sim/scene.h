@@ -20,6 +20,11 @@
 
 namespace smokesvd::sim {
 
+// Bounds a scene file and the flags of `smokesvd simulate` share: sides from kMinSceneSide to
+// kMaxGridSide cells (runtime/geometry.h), 1 to kMaxFrames frames.
+inline constexpr int64_t kMinSceneSide = 3;
+inline constexpr int kMaxFrames = 1000000;
+
 // A value that may change over time: piecewise linear through (frame, value) points, constant before
 // the first and after the last. One point is a constant.
 template <typename T>

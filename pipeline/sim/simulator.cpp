@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "nets/io/finite_values.h"
 #include "nets/io/npy.h"
 #include "nets/ops/elementwise.h"
 #include "pipeline/physics/advection.h"
@@ -9,6 +10,11 @@
 #include "runtime/error.h"
 
 namespace smokesvd::sim {
+
+const char* const kBlownUp =
+    "the simulation blew up; weaker forces (gravity, buoyancy, wind, force fields), a smaller dt or more "
+    "steps_per_frame keep it finite";
+
 namespace {
 
 // A force field file as a planar acceleration [3, D, H, W], scaled.
@@ -21,6 +27,7 @@ Tensor loadForceField(Context& context, const ForceField& field, const GridSize&
                 std::to_string(grid.x) + ", 3] (z, y, x, component) for this scene, got " + toString(array.shape));
   std::vector<float> values = array.toFloat();
   for (float& v : values) v *= static_cast<float>(field.scale);
+  io::requireFiniteValues(values, array.shape, name, "a force field times its scale");
   Tensor interleaved = Tensor::fromHost(context, array.shape, values);
   Tensor planar(context, grid.vector());
   Stream stream(context);
@@ -202,6 +209,9 @@ FrameReport Simulator::advanceFrame() {
   report.frame = frame_;
   for (int substep = 0; substep < scene_.stepsPerFrame; ++substep) {
     const physics::PressureReport pressure = step(substep);
+    if (!pressure.finite)
+      throw Error("frame " + std::to_string(frame_) + ", step " + std::to_string(substep) +
+                  ": the velocity became NaN or infinite (" + std::string(kBlownUp) + ")");
     report.pressureIterations += pressure.iterations;
     report.relativeResidual = std::max(report.relativeResidual, pressure.relativeResidual);
     report.maxDivergence = pressure.residual;

@@ -23,6 +23,9 @@
 
 namespace smokesvd::sim {
 
+// How a run that became non-finite is explained (with the frame and the field) and what to change.
+extern const char* const kBlownUp;
+
 struct FrameReport {
   int frame = 0;                  // the frame just completed
   int pressureIterations = 0;     // summed over the frame's steps

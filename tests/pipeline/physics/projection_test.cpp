@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "pipeline/physics/pressure.h"
 #include "tests/harness/gpu_test.h"
@@ -97,6 +98,55 @@ TEST_P(ProjectionTest, ProjectingTwiceChangesNothing) {
     magnitude = std::max(magnitude, static_cast<double>(std::abs(a[i])));
   }
   EXPECT_LE(change, 1e-4 * magnitude);
+}
+
+// Not only properties a projection onto zero also has: the result is u − ∇p for the pressure the solver
+// returns (with p = 0 in empty cells and no flow through obstacle faces), that p is not zero, and most of
+// a random field survives (a random field is far from a gradient).
+TEST_P(ProjectionTest, TheCorrectionIsTheGradientOfTheReturnedPressure) {
+  const GridSize grid{.x = 12, .y = 14, .z = 10};
+  const std::vector<float> flagValues = domainFlags(grid, GetParam());
+  const ref::FlagView view(grid, flagValues);
+  Tensor flags = Tensor::fromHost(context(), grid.volume(), flagValues);
+  std::vector<float> velocityValues;
+  Tensor velocity = randomTensor(context(), grid.vector(), 23, -1, 1, &velocityValues);
+  Tensor projected = poisonedTensor(context(), grid.vector());
+  physics::PressureOptions options;
+  options.tolerance = 1e-6;
+  options.warmStart = false;
+  physics::PressureSolver solver(context(), flags, options);
+  ASSERT_TRUE(solver.project(velocity, projected).converged);
+  const std::vector<float> pressure = solver.pressure();
+  const ref::Field expected = ref::correctVelocity(view, ref::widen(pressure), ref::widen(velocityValues));
+  const std::vector<float> after = projected.download();
+  double pressureNorm = 0, projectedNorm = 0, inputNorm = 0;
+  for (float p : pressure) pressureNorm += static_cast<double>(p) * p;
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    ASSERT_NEAR(after[i], expected[i], 1e-4) << "velocity element " << i;
+    projectedNorm += static_cast<double>(after[i]) * after[i];
+    inputNorm += static_cast<double>(velocityValues[i]) * velocityValues[i];
+  }
+  EXPECT_GT(pressureNorm, 1.0);
+  EXPECT_GT(projectedNorm, 0.1 * inputNorm);
+  EXPECT_LT(projectedNorm, inputNorm);  // a projection never adds energy
+}
+
+// A velocity holding NaN or infinity is never reported as converged: a GPU max() may drop a NaN, the
+// solver's sums do not.
+TEST_P(ProjectionTest, NonFiniteVelocityIsNeverConverged) {
+  const GridSize grid{.x = 9, .y = 11, .z = 8};
+  Tensor flags = Tensor::fromHost(context(), grid.volume(), domainFlags(grid, GetParam()));
+  for (float bad : {std::nanf(""), std::numeric_limits<float>::infinity()}) {
+    std::vector<float> values = randomValues(static_cast<std::size_t>(3 * grid.cells()), 29, -1, 1);
+    // u_x between fluid cells (1, 2, 2) and (2, 2, 2) in every domain
+    values[static_cast<std::size_t>(2 * grid.x * grid.y + 2 * grid.x + 2)] = bad;
+    Tensor velocity = Tensor::fromHost(context(), grid.vector(), values);
+    Tensor projected = poisonedTensor(context(), grid.vector());
+    physics::PressureSolver solver(context(), flags);
+    const physics::PressureReport report = solver.project(velocity, projected);
+    EXPECT_FALSE(report.finite) << bad;
+    EXPECT_FALSE(report.converged) << bad;
+  }
 }
 
 std::string domainName(const ::testing::TestParamInfo<Domain>& param) {

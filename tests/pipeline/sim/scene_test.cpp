@@ -105,7 +105,7 @@ TEST(SceneJson, BadScenesNameTheFileTheFieldAndWhatWasExpected) {
       {"{" + base + R"(, "sources": [{"shape": "cone", "centre": [1, 2, 3]}]})",
        R"(field 'sources[0].shape': expected one of "sphere", "box", "cylinder", got "cone")"},
       {"{" + base + R"(, "sources": [{"shape": "sphere", "centre": [1, 2, 3], "radius": -1}]})",
-       "field 'sources[0].radius': expected a positive number, got -1"},
+       "field 'sources[0].radius': expected a number above 0 and at most 100000.0, got -1"},
       {"{" + base + R"(, "sources": [{"shape": "sphere", "centre": [1, 2]}]})",
        "field 'sources[0].centre': expected three numbers [x, y, z]"},
       {"{" + base + R"(, "sources": [{"shape": "box", "centre": [1, 2, 3]}]})", "missing field 'sources[0].half_size'"},

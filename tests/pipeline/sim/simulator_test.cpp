@@ -2,13 +2,17 @@
 
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <set>
 #include <sstream>
 
 #include "nets/io/npy.h"
 #include "pipeline/physics/advection.h"
 #include "pipeline/sim/domain.h"
 #include "pipeline/sim/random_scene.h"
+#include "pipeline/sim/outputs.h"
 #include "pipeline/sim/run.h"
+#include "pipeline/sim/run_files.h"
 #include "pipeline/sim/simulator.h"
 #include "runtime/error.h"
 #include "tests/harness/compare.h"
@@ -72,7 +76,8 @@ std::string fileBytes(const fs::path& path) {
 }
 
 // Every regular file under `directory` by relative path: its bytes, or for .npz files the arrays
-// (zip members carry their write time, which differs between runs).
+// (zip members carry their write time, which differs between runs), or for the manifest its sorted
+// lines (the order files were first written in depends on where a run was interrupted).
 std::map<std::string, std::string> directoryContents(const fs::path& directory) {
   std::map<std::string, std::string> files;
   for (const fs::directory_entry& entry : fs::recursive_directory_iterator(directory)) {
@@ -83,6 +88,11 @@ std::map<std::string, std::string> directoryContents(const fs::path& directory) 
         const std::vector<std::byte> bytes = io::serializeNpy(array);
         content += key + ":" + std::string(reinterpret_cast<const char*>(bytes.data()), bytes.size());
       }
+    } else if (entry.path().filename() == sim::RunFiles::kManifest) {
+      std::ifstream manifest(entry.path());
+      std::set<std::string> lines;
+      for (std::string line; std::getline(manifest, line);) lines.insert(line);
+      for (const std::string& line : lines) content += line + "\n";
     } else {
       content = fileBytes(entry.path());
     }
@@ -181,7 +191,7 @@ TEST_F(SimulatorTest, RunsAreDeterministic) {
   EXPECT_TRUE(fs::exists(a / "renders" / "view_03" / "0002.png"));
   EXPECT_TRUE(fs::exists(a / "fields" / "temperature_0002.npz"));
   EXPECT_TRUE(fs::exists(a / "run.json"));
-  EXPECT_FALSE(fs::exists(a / "checkpoint.npz"));
+  EXPECT_TRUE(fs::exists(a / "checkpoint.npz")) << "kept, so that the run can be extended";
   EXPECT_EQ(differences(a, b), std::vector<std::string>{});
 }
 
@@ -209,18 +219,145 @@ TEST_F(SimulatorTest, AnInterruptedRunResumesToIdenticalOutput) {
   const sim::RunResult first = sim::runScene(context(), scene, pieces, stopEarly);
   EXPECT_FALSE(first.complete);
   EXPECT_TRUE(fs::exists(pieces / "checkpoint.npz"));
-  // What a kill in the middle of the next frame leaves behind: a temporary file, never a final name.
-  std::ofstream(pieces / "fields" / "density_0003.npz.tmp") << "truncated";
+  // What a kill in the middle of a write leaves behind (without a signal handler): a temporary file,
+  // never a final name. The resumed run removes them.
+  std::ofstream(pieces / "fields" / "density_0002.npz.tmp") << "truncated";
+  std::ofstream(pieces / "renders" / "view_01" / "0002.png.tmp") << "truncated";
+  std::ofstream(pieces / "checkpoint.npz.tmp") << "truncated";
   const sim::RunResult second = sim::runScene(context(), scene, pieces, {});
   EXPECT_TRUE(second.resumed);
   EXPECT_TRUE(second.complete);
   EXPECT_EQ(second.framesSimulated, 2);
-  fs::remove(pieces / "fields" / "density_0003.npz.tmp");
+  for (const char* temporary : {"fields/density_0002.npz.tmp", "renders/view_01/0002.png.tmp", "checkpoint.npz.tmp"})
+    EXPECT_FALSE(fs::exists(pieces / temporary)) << temporary;
   EXPECT_EQ(differences(whole, pieces), std::vector<std::string>{});
 
   const sim::RunResult third = sim::runScene(context(), scene, pieces, {});
   EXPECT_EQ(third.framesSimulated, 0);
   EXPECT_TRUE(third.complete);
+}
+
+TEST_F(SimulatorTest, AFinishedRunIsExtendedWithMoreFrames) {
+  const fs::path whole = scratchDirectory("extend_whole"), extended = scratchDirectory("extend");
+  sim::runScene(context(), plumeScene(5), whole, {});
+  ASSERT_TRUE(sim::runScene(context(), plumeScene(3), extended, {}).complete);
+  const sim::RunResult more = sim::runScene(context(), plumeScene(5), extended, {});
+  EXPECT_TRUE(more.resumed);
+  EXPECT_TRUE(more.complete);
+  EXPECT_EQ(more.framesSimulated, 2);
+  EXPECT_EQ(differences(whole, extended), std::vector<std::string>{});
+  // Fewer frames than the run holds: nothing to do, nothing deleted.
+  EXPECT_EQ(sim::runScene(context(), plumeScene(2), extended, {}).framesSimulated, 0);
+  EXPECT_TRUE(fs::exists(extended / "fields" / "density_0004.npz"));
+}
+
+// --overwrite deletes what runs of smokesvd wrote (their manifest) and nothing else.
+TEST_F(SimulatorTest, OverwriteDeletesOnlyTheFilesARunWrote) {
+  const fs::path directory = scratchDirectory("overwrite_own");
+  sim::RunOptions options;
+  options.render = true;
+  sim::runScene(context(), plumeScene(3), directory, options);
+  std::ofstream(directory / "notes.txt") << "mine";
+  std::ofstream(directory / "fields" / "my_density.npz") << "mine";
+  std::ofstream(directory / "renders" / "view_00" / "keep.png") << "mine";
+  options.overwrite = true;
+  sim::Scene other = plumeScene(1);
+  other.render.views = 2;
+  EXPECT_TRUE(sim::runScene(context(), other, directory, options).complete);
+  for (const char* mine : {"notes.txt", "fields/my_density.npz", "renders/view_00/keep.png"})
+    EXPECT_TRUE(fs::exists(directory / mine)) << mine;
+  // The old run's files beyond the new one's are gone, and so are the folders they alone filled.
+  EXPECT_FALSE(fs::exists(directory / "fields" / "density_0002.npz"));
+  EXPECT_FALSE(fs::exists(directory / "renders" / "view_03"));
+  EXPECT_TRUE(fs::exists(directory / "renders" / "view_01" / "0000.png"));
+  EXPECT_EQ(sim::readScene(directory / "scene.json"), other);
+}
+
+TEST_F(SimulatorTest, OverwriteRefusesAFolderThatIsNotARun) {
+  const fs::path home = scratchDirectory("not_a_run");
+  fs::create_directories(home / "renders");
+  std::ofstream(home / "renders" / "holiday.png") << "mine";
+  std::ofstream(home / "fields") << "mine";
+  sim::RunOptions options;
+  options.render = false;
+  options.overwrite = true;
+  try {
+    sim::runScene(context(), plumeScene(1), home, options);
+    ADD_FAILURE() << "overwrote a folder that is not a run";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("is not a run of smokesvd simulate"), std::string::npos) << error.what();
+  }
+  // Without --overwrite a run does not start among files of its own names either.
+  options.overwrite = false;
+  try {
+    sim::runScene(context(), plumeScene(1), home, options);
+    ADD_FAILURE() << "started a run among someone else's files";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("holds fields but no manifest.txt"), std::string::npos) << error.what();
+  }
+  EXPECT_TRUE(fs::exists(home / "renders" / "holiday.png"));
+  EXPECT_TRUE(fs::is_regular_file(home / "fields"));
+  // An empty folder, or none, is fine to overwrite.
+  EXPECT_TRUE(sim::runScene(context(), plumeScene(1), scratchDirectory("empty"), {.render = false, .overwrite = true}).complete);
+}
+
+TEST_F(SimulatorTest, ACorruptCheckpointSaysWhatToDo) {
+  const fs::path directory = scratchDirectory("corrupt_checkpoint");
+  sim::RunOptions stopEarly;
+  stopEarly.render = false;
+  stopEarly.maxFrames = 1;
+  sim::runScene(context(), plumeScene(3), directory, stopEarly);
+  std::ofstream(directory / "checkpoint.npz", std::ios::trunc) << "not a zip";
+  try {
+    sim::runScene(context(), plumeScene(3), directory, stopEarly);
+    ADD_FAILURE() << "resumed from a corrupt checkpoint";
+  } catch (const Error& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("checkpoint.npz"), std::string::npos) << message;
+    EXPECT_NE(message.find("delete"), std::string::npos) << message;
+    EXPECT_NE(message.find("--overwrite"), std::string::npos) << message;
+  }
+}
+
+// A state that becomes NaN or infinite stops the run, naming the frame and the field, and writes nothing
+// of that frame.
+TEST_F(SimulatorTest, ANonFiniteStateStopsTheRunNamingFrameAndField) {
+  const sim::Scene scene = plumeScene(3);
+  const std::size_t cells = static_cast<std::size_t>(scene.resolution.cells());
+  sim::SimulatorState state;
+  state.frame = 1;
+  state.density.assign(cells, 0.0f);
+  state.velocity.assign(3 * cells, 0.0f);
+  state.pressure.assign(cells, 0.0f);
+  state.temperature.assign(cells, 0.0f);
+  {
+    sim::Simulator simulator(context(), scene);
+    sim::SimulatorState bad = state;
+    bad.velocity[cells + 7 * 15 * 25 + 12 * 15 + 7] = std::numeric_limits<float>::infinity();
+    simulator.restore(bad);
+    try {
+      simulator.advanceFrame();
+      ADD_FAILURE() << "an infinite velocity went unnoticed";
+    } catch (const Error& error) {
+      EXPECT_NE(std::string(error.what()).find("frame 1, step 0: the velocity became NaN or infinite"), std::string::npos)
+          << error.what();
+    }
+  }
+  const fs::path directory = scratchDirectory("non_finite");
+  sim::Simulator simulator(context(), scene);
+  sim::SimulatorState bad = state;
+  bad.density[7 * 15 * 25 + 12 * 15 + 7] = std::nanf("");
+  simulator.restore(bad);  // as if frame 0 had ended with it (a NaN density reaches the velocity next)
+  sim::RunFiles files(directory);
+  try {
+    sim::writeFrameFields(files, simulator);
+    ADD_FAILURE() << "a NaN density was written";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("frame 0: density: element [7, 12, 7] of [13, 25, 15] is nan"),
+              std::string::npos)
+        << error.what();
+  }
+  EXPECT_FALSE(fs::exists(directory / "fields" / "density_0000.npz"));
 }
 
 TEST_F(SimulatorTest, ADirectoryWithAnotherSceneIsAnError) {
