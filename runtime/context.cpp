@@ -82,6 +82,17 @@ VkInstance createInstance(bool validation, bool synchronization, VkDebugUtilsMes
   return instance;
 }
 
+// Messages of destroyed contexts that were never taken (Context::takeUnreadValidationMessages). Never
+// destroyed, so that contexts in static storage can still add to it while the program exits.
+struct UnreadMessages {
+  std::mutex mutex;
+  std::vector<std::string> messages;
+};
+UnreadMessages& unreadMessages() {
+  static UnreadMessages* const unread = new UnreadMessages;
+  return *unread;
+}
+
 std::string deviceRequest(const ContextOptions& options) {
   if (!options.device.empty()) return options.device;
   const char* env = std::getenv("SMOKESVD_DEVICE");
@@ -189,6 +200,16 @@ void Context::release() {
   device_ = VK_NULL_HANDLE;
   messenger_ = VK_NULL_HANDLE;
   instance_ = VK_NULL_HANDLE;
+  std::vector<std::string> untaken = takeValidationMessages();
+  UnreadMessages& unread = unreadMessages();
+  std::lock_guard lock(unread.mutex);
+  unread.messages.insert(unread.messages.end(), untaken.begin(), untaken.end());
+}
+
+std::vector<std::string> Context::takeUnreadValidationMessages() {
+  UnreadMessages& unread = unreadMessages();
+  std::lock_guard lock(unread.mutex);
+  return std::exchange(unread.messages, {});
 }
 
 const Kernel& Context::kernel(const KernelKey& key) { return kernels_->get(key); }

@@ -73,6 +73,10 @@ class Context {
   // Messages the validation layer reported since the last call; emptied by the call.
   std::vector<std::string> takeValidationMessages();
   void reportValidationMessage(std::string message);
+  // Messages of contexts already destroyed that nobody took, including those the layer raised while a
+  // context was being destroyed (objects left alive, ...); emptied by the call. The command line checks
+  // it before it exits, the test harness after the last test.
+  static std::vector<std::string> takeUnreadValidationMessages();
 
   // Runs a one-off command buffer recorded by `record` and waits for it (uploads, downloads).
   template <typename Record>

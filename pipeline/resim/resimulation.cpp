@@ -249,10 +249,11 @@ ResimResult runResimulation(Context& context, const ResimOptions& o) {
   const physics::PressureReport first = simulator.enforceDomain();
   record(first.iterations, first.converged);
   const sim::FrameRenderer renderer(scene);
+  sim::RunFiles files = sim::RunFiles::unlisted(o.out);  // prepareOut() manages this folder
   const std::vector<float> density0 = simulator.density().download();
   sim::writeFields(o.out, 0, grid, density0, simulator.velocity().download(), density0);
-  sim::writeFlags(o.out, simulator);
-  renderer.write(o.out, simulator);
+  sim::writeFlags(files, simulator);
+  renderer.write(files, simulator);
   const std::vector<float> sourceFlags = sim::sceneFlags(source.scene, 0);
   if (o.upres == 1) result.departures.push_back(departure(0, density0, source.density(0), sourceFlags));
 
@@ -266,8 +267,8 @@ ResimResult runResimulation(Context& context, const ResimOptions& o) {
     record(report.pressureIterations, report.converged);
     reports.push_back({{"frame", t}, {"pressure_iterations", report.pressureIterations},
                        {"max_divergence", report.maxDivergence}, {"converged", report.converged}});
-    sim::writeFrameFields(o.out, simulator);
-    renderer.write(o.out, simulator);
+    sim::writeFrameFields(files, simulator);
+    renderer.write(files, simulator);
     if (o.upres == 1 && t < source.frames) result.departures.push_back(departure(t, simulator.density().download(), source.density(t), sourceFlags));
     progress.update(t + 1, "frame " + std::to_string(t));
   }

@@ -1,5 +1,7 @@
-// Base fixture for every test that touches the GPU: one Context per test process, created with the
-// Khronos validation layer on; a test fails if the layer reported anything while it ran.
+// Base fixture for every test that touches the GPU: contexts shared by the whole test process, created
+// with the Khronos validation layer and its synchronization validation on; a test fails if the layer
+// reported anything while it ran, and the process fails if the layer reports anything after the last
+// test, while the contexts are destroyed (objects left alive, ...), or from a context a test made itself.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -10,6 +12,12 @@ namespace smokesvd::testing {
 
 // The process-wide validated context (created on first use).
 Context& testContext();
+// A process-wide context with these options (device, forceStaging, emulateFloatAtomics, guardTensors),
+// created on first use; validation and synchronization validation are always on.
+Context& sharedContext(ContextOptions options);
+
+// Adds a failure for every message the layer reported to `context` since it was last asked.
+void expectNoValidationMessages(Context& context);
 
 class GpuTest : public ::testing::Test {
  protected:

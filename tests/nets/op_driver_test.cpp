@@ -17,6 +17,7 @@
 #include "nets/op_registry.h"
 #include "runtime/context.h"
 #include "runtime/embedded_shaders.h"
+#include "tests/harness/gpu_test.h"
 #include "tests/harness/op_driver.h"
 #include "tests/nets/shaders_without_ops.h"
 
@@ -31,20 +32,8 @@ ContextOptions options(bool noFloatAtomics, bool guarded) {
   return o;
 }
 
-// One guarded context per atomics mode, created on first use (and so destroyed before the validation
-// layer it loaded).
-Context& guardedContext(bool noFloatAtomics) {
-  if (noFloatAtomics) {
-    static Context emulated(options(true, true));
-    return emulated;
-  }
-  static Context native(options(false, true));
-  return native;
-}
-
-void expectNoValidationMessages(Context& context) {
-  for (const std::string& message : context.takeValidationMessages()) ADD_FAILURE() << "validation layer: " << message;
-}
+// One guarded context per atomics mode, shared by the process (tests/harness/gpu_test.h).
+Context& guardedContext(bool noFloatAtomics) { return sharedContext(options(noFloatAtomics, true)); }
 
 std::vector<std::string> opNames() {
   std::vector<std::string> names;

@@ -145,5 +145,26 @@ TEST_F(StreamTest, ValidationLayerMessagesAreCaught) {
   EXPECT_FALSE(context().takeValidationMessages().empty());
 }
 
+// Messages nobody took from a context before it was destroyed -- among them those raised by its
+// destruction -- are kept for the process (the command line and the test harness check them last).
+TEST(ValidationMessagesTest, ThoseOfADestroyedContextAreKeptForTheProcess) {
+  ASSERT_TRUE(Context::takeUnreadValidationMessages().empty());
+  {
+    Context own(ContextOptions{.validation = true});
+    Buffer buffer(own, 1024);
+    VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    info.buffer = buffer.handle();
+    info.format = VK_FORMAT_R32_SFLOAT;
+    info.offset = 4;  // invalid usage, as above
+    info.range = 64;
+    VkBufferView view = VK_NULL_HANDLE;
+    vkCreateBufferView(own.device(), &info, nullptr, &view);
+    if (view) vkDestroyBufferView(own.device(), view, nullptr);
+  }
+  const std::vector<std::string> unread = Context::takeUnreadValidationMessages();
+  ASSERT_FALSE(unread.empty());
+  EXPECT_NE(unread.front().find("offset"), std::string::npos) << unread.front();
+}
+
 }  // namespace
 }  // namespace smokesvd::testing

@@ -6,19 +6,15 @@
 #include "runtime/stream.h"
 #include "runtime/tensor.h"
 #include "runtime/tensor_guards.h"
+#include "tests/harness/gpu_test.h"
 
 namespace smokesvd::testing {
 namespace {
 
 class TensorGuardsTest : public ::testing::Test {
  protected:
-  static Context& guarded() {
-    static Context context(ContextOptions{.validation = true, .guardTensors = true});
-    return context;
-  }
-  void TearDown() override {
-    for (const std::string& message : guarded().takeValidationMessages()) ADD_FAILURE() << "validation layer: " << message;
-  }
+  static Context& guarded() { return sharedContext(ContextOptions{.guardTensors = true}); }
+  void TearDown() override { expectNoValidationMessages(guarded()); }
   // y[i] = value for i < n (whole vec4s), n may exceed the tensor.
   static void fill(const Tensor& y, uint32_t n, float value) {
     Stream stream(guarded());

@@ -15,6 +15,7 @@
 #include "runtime/error.h"
 #include "tools/bench/bench.h"
 #include "tools/smokesvd/command.h"
+#include "tools/smokesvd/option_checks.h"
 
 namespace smokesvd::cli {
 namespace {
@@ -151,10 +152,10 @@ void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action)
   command->add_option("filter", args.filter, "run only benchmarks whose name contains this text");
   command->add_flag("--json", args.json, "print JSON");
   command->add_flag("--list", args.list, "list benchmark names and exit");
-  command->add_option("--runs", args.options.runs, "timed runs per kernel (median is reported)")->check(CLI::PositiveNumber);
-  command->add_option("--warmup", args.options.warmup, "untimed runs before timing")->check(CLI::NonNegativeNumber);
+  command->add_option("--runs", args.options.runs, "timed runs per kernel (median is reported)")->check(wholeNumber(1, 100000));
+  command->add_option("--warmup", args.options.warmup, "untimed runs before timing")->check(wholeNumber(0, 100000));
   command->add_option("--passes", args.passes, "run everything this many times and keep each figure's best pass")
-      ->check(CLI::PositiveNumber);
+      ->check(wholeNumber(1, 1000));
   command->add_flag("--profile", args.options.profile,
                     "also time every dispatch of each recording once and print each shader's share");
   command->add_flag("!--no-reference", args.reference,

@@ -4,6 +4,7 @@
 
 #include "pipeline/reconstruct/demo.h"
 #include "tools/smokesvd/command.h"
+#include "tools/smokesvd/option_checks.h"
 
 namespace smokesvd::cli {
 namespace {
@@ -14,7 +15,7 @@ void addDemoCommand(CLI::App& app, const GlobalOptions& global, Action& action) 
   CLI::App* c = app.add_subcommand("demo", "simulate a held-out plume, reconstruct its front-view video, compare with the truth");
   c->add_option("--out", out, "output folder (default smokesvd-demo)");
   c->add_option("--models", models, "folder of trained networks (default: the shipped models/small)");
-  c->add_option("--frames", o.frames, "frames of the plume (default 40)")->check(CLI::Range(2, 1000));
+  c->add_option("--frames", o.frames, "frames of the plume (default 40)")->check(wholeNumber(2, 1000));
   c->callback([&global, &action] {
     action = [&global] {
       o.out = out;

@@ -11,6 +11,7 @@
 #include "pipeline/eval/evaluation.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
+#include "tools/smokesvd/option_checks.h"
 
 namespace smokesvd::cli {
 namespace {
@@ -82,17 +83,34 @@ void addEvalCommand(CLI::App& app, const GlobalOptions& global, Action& action) 
   CLI::App* c = app.add_subcommand("eval", "measure a reconstruction against a simulated truth or calibrated footage, beside the trivial floors");
   c->add_option("reconstruction", a.reconstruction, "the folder of a finished smokesvd reconstruct run")->required();
   c->add_option("--out", a.out, "output folder: metrics.json, metrics.csv, per_frame.csv, comparison.png")->required();
-  c->add_option("--truth", a.truth, "a smokesvd simulate scene folder (the reconstruction made with --framing box from its front view)");
-  c->add_option("--cameras", a.cameras, "a NeRF-style info.json (the reconstruction made with --camera of the same file)");
-  c->add_option("--videos", a.videos, "the folder of the calibration's videos");
+  CLI::Option* truth = c->add_option("--truth", a.truth, "a smokesvd simulate scene folder (the reconstruction made with --framing box from its front view)");
+  CLI::Option* cameras = c->add_option("--cameras", a.cameras, "a NeRF-style info.json (the reconstruction made with --camera of the same file)");
+  CLI::Option* videos = c->add_option("--videos", a.videos, "the folder of the calibration's videos");
   c->add_option("--views", a.views, "orbit slots 0-15 (truth) or camera names (footage), comma-separated; default all (the input view always)");
-  c->add_option("--region", a.region, "footage: box (the box's projection at the preset's image size, default) or frame (whole frames)");
-  c->add_option("--width", a.width, "footage --region frame: image width in pixels (default 270)")->check(CLI::PositiveNumber);
-  c->add_option("--supersample", a.supersample, "footage: rays per pixel along each axis, averaged (default 2)")->check(CLI::PositiveNumber);
-  c->add_option("--units", a.units, "mapped (references through the input's intensity mapping, default) or footage (renders mapped back)");
-  c->add_option("--sheet-frames", a.sheetFrames, "frames on the comparison sheet (default 3)")->check(CLI::PositiveNumber);
+  CLI::Option* region = c->add_option("--region", a.region, "footage: box (the box's projection at the preset's image size, default) or frame (whole frames)")
+                            ->check(CLI::IsMember({"box", "frame"}));
+  c->add_option("--width", a.width, "footage --region frame: image width in pixels (default 270)")
+      ->check(wholeNumber(1, kMaxImageSide))
+      ->needs(region);
+  CLI::Option* supersample = c->add_option("--supersample", a.supersample, "footage: rays per pixel along each axis, averaged (default 2)")
+                                 ->check(wholeNumber(1, 16));
+  c->add_option("--units", a.units, "mapped (references through the input's intensity mapping, default) or footage (renders mapped back)")
+      ->check(CLI::IsMember({"mapped", "footage"}));
+  c->add_option("--sheet-frames", a.sheetFrames, "frames on the comparison sheet (default 3)")->check(wholeNumber(1, 100));
   c->add_flag("--quiet", a.quiet, "no progress line");
-  c->callback([&global, &action] { action = [&global] { runEval(global, a); }; });
+  // Either a simulated truth or calibrated footage (its cameras and its videos).
+  truth->excludes(cameras)->excludes(videos)->excludes(region)->excludes(supersample);
+  cameras->needs(videos);
+  videos->needs(cameras);
+  c->callback([&global, &action, truth, cameras] {
+    if (truth->count() == 0 && cameras->count() == 0)
+      throw CLI::RequiredError("give either --truth SCENE_DIR or --cameras info.json with --videos DIR",
+                               CLI::ExitCodes::RequiredError);
+    if (int64_t{a.width} * a.supersample > kMaxImageSide)
+      throw CLI::ValidationError("--width x --supersample", "expected at most " + std::to_string(kMaxImageSide) +
+                                                                 " rays across, got " + std::to_string(int64_t{a.width} * a.supersample));
+    action = [&global] { runEval(global, a); };
+  });
 }
 
 const bool registered = registerCommand({"eval", addEvalCommand});

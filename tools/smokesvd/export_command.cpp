@@ -9,6 +9,7 @@
 #include "pipeline/export/export_run.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
+#include "tools/smokesvd/option_checks.h"
 
 namespace smokesvd::cli {
 namespace {
@@ -20,7 +21,6 @@ struct ExportArguments {
 };
 
 void runExportCommand(const ExportArguments& a) {
-  if (a.vdb + a.nerf + a.mantaflow != 1) throw Error("export: give exactly one of --vdb, --nerf, --mantaflow");
   exporters::ExportOptions o;
   o.source = a.source;
   o.out = a.out;
@@ -39,18 +39,26 @@ void addExportCommand(CLI::App& app, const GlobalOptions&, Action& action) {
       "export", "write a reconstruction, re-simulation or simulation for Blender, Houdini, NeRF/3DGS tools or mantaflow");
   c->add_option("run", a.source, "a folder written by smokesvd reconstruct, resim or simulate")->required();
   c->add_option("--out", a.out, "output folder")->required();
-  c->add_flag("--vdb", a.vdb,
+  CLI::Option* vdb = c->add_flag("--vdb", a.vdb,
               std::string("OpenVDB files per frame: float grid density, vec3s grid velocity (world units per second)") +
                   (exporters::openVdbAvailable() ? "" : " [not in this build: no OpenVDB]"));
-  c->add_flag("--nerf", a.nerf, "per-frame folders of the 16 views with NeRF/nerfstudio transforms.json");
-  c->add_flag("--mantaflow", a.mantaflow, "mantaflow's .npz grids (arr_0; density [z,y,x,1], MAC velocity [z,y,x,3], flags)");
+  CLI::Option* nerf = c->add_flag("--nerf", a.nerf, "per-frame folders of the 16 views with NeRF/nerfstudio transforms.json");
+  CLI::Option* mantaflow = c->add_flag("--mantaflow", a.mantaflow, "mantaflow's .npz grids (arr_0; density [z,y,x,1], MAC velocity [z,y,x,3], flags)");
   c->add_option("--calibration", a.calibration, "info.json that placed the box in the world (default: the one the run records)");
   c->add_flag("--z-up", a.zUp, "a z-up world (Blender) instead of y up (Houdini, the calibration's world)");
   c->add_option("--camera-error", a.cameraError,
                 "--nerf: the largest error of the pinhole stand-ins for the orthographic views, pixels (default 0.25)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber(100))
+      ->needs(nerf);
   c->add_flag("--overwrite", a.overwrite, "replace an export in --out");
-  c->callback([&action] { action = [] { runExportCommand(a); }; });
+  // One format per run.
+  vdb->excludes(nerf)->excludes(mantaflow);
+  nerf->excludes(mantaflow);
+  c->callback([&action, vdb, nerf, mantaflow] {
+    if (vdb->count() + nerf->count() + mantaflow->count() == 0)
+      throw CLI::RequiredError("give one of --vdb, --nerf, --mantaflow", CLI::ExitCodes::RequiredError);
+    action = [] { runExportCommand(a); };
+  });
 }
 
 const bool registered = registerCommand({"export", addExportCommand});

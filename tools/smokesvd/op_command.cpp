@@ -7,6 +7,7 @@
 #include <iostream>
 #include <map>
 
+#include "nets/io/finite_values.h"
 #include "nets/io/npy.h"
 #include "nets/op_registry.h"
 #include "runtime/error.h"
@@ -54,7 +55,9 @@ void printCatalogue() {
 
 Tensor load(Context& context, const std::string& path) {
   const io::NpyArray array = io::readNpy(path);
-  return Tensor::fromHost(context, array.shape, array.toFloat());
+  const std::vector<float> values = array.toFloat();
+  io::requireFiniteValues(values, array.shape, path, "op inputs");
+  return Tensor::fromHost(context, array.shape, values);
 }
 
 void runOp(const GlobalOptions& global, const OpArguments& args) {

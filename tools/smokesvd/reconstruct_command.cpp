@@ -11,6 +11,7 @@
 #include "pipeline/reconstruct/reconstruction.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
+#include "tools/smokesvd/option_checks.h"
 
 namespace smokesvd::cli {
 namespace {
@@ -105,22 +106,22 @@ void addReconstructCommand(CLI::App& app, const GlobalOptions& global, Action& a
   c->add_option("--framing", a.framing, "box (the whole frame is the box's front view) or auto (find the smoke; default)");
   c->add_option("--intensity", a.intensity, "auto (default), none, or a gain: how input values map to the networks' units");
   c->add_option("--background", a.background, "level (default: one black level) or first (frame 0 per pixel)");
-  c->add_option("--threshold", a.threshold, "noise floor after normalisation (default 0.02)");
-  c->add_option("--target", a.target, "the level the footage's 99.9th percentile maps to (default 0.9)");
-  c->add_option("--seed", a.seed, "seed of the side-view sampling");
+  c->add_option("--threshold", a.threshold, "noise floor after normalisation (default 0.02)")->check(number(0, 1));
+  c->add_option("--target", a.target, "the level the footage's 99.9th percentile maps to (default 0.9)")->check(positiveNumber(1e6));
+  c->add_option("--seed", a.seed, "seed of the side-view sampling")->check(wholeNumber(0, INT64_MAX));
   c->add_option("--side-view", a.sideView, "synthesize (SvDiff, default) or mirror (the mirrored front view; a baseline)");
-  c->add_option("--ddim-steps", a.ddimSteps, "DDIM steps per side view (default 20)")->check(CLI::PositiveNumber);
-  c->add_option("--init-steps", a.initSteps, "DDIM steps for frames 0 and 1 (default 50)")->check(CLI::PositiveNumber);
-  c->add_option("--eta", a.eta, "DDIM eta: 0 deterministic, 1 ancestral (default 1)")->check(CLI::NonNegativeNumber);
+  c->add_option("--ddim-steps", a.ddimSteps, "DDIM steps per side view (default 20)")->check(wholeNumber(1, 10000));
+  c->add_option("--init-steps", a.initSteps, "DDIM steps for frames 0 and 1 (default 50)")->check(wholeNumber(1, 10000));
+  c->add_option("--eta", a.eta, "DDIM eta: 0 deterministic, 1 ancestral (default 1)")->check(number(0, 100));
   c->add_flag("--no-refine", a.noRefine, "skip the novel-view refinement (the coarse density; an ablation)");
   c->add_flag("--no-progressive", a.noProgressive, "refine every novel view in one pass (an ablation)");
   c->add_option("--inflow-iterations", a.inflowIterations, "AdamW iterations of the inflow per frame (default 40)")
-      ->check(CLI::NonNegativeNumber);
-  c->add_option("--inflow-lr", a.inflowLr, "learning rate of the inflow optimisation (default 0.05)")->check(CLI::PositiveNumber);
+      ->check(wholeNumber(0, 100000));
+  c->add_option("--inflow-lr", a.inflowLr, "learning rate of the inflow optimisation (default 0.05)")->check(positiveNumber(1e3));
   c->add_option("--inflow-height", a.inflowHeight, "the inflow is zero above this fraction of the box (default 0.25)")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(number(0, 1));
   c->add_option("--polish", a.polish, "N optimisation steps per frame on velocity and inflow through the renderer (default 0)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(wholeNumber(0, 100000));
   c->add_flag("--no-videos", a.noVideos, "skip input/side/orbit mp4 and the contact sheet");
   c->add_flag("--resume", a.resume, "continue the run in --out at its first unfinished frame");
   c->add_flag("--overwrite", a.overwrite, "replace the reconstruction in --out");

@@ -6,9 +6,11 @@
 //   smokesvd render d.npz --cameras info.json --out r/                 through every calibrated camera
 //   smokesvd render --cameras info.json --overlay-frame 90 --out check.png
 //        each camera's frame 90 with the projected volume box (and the box, or a given volume, rendered in blue)
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 
 #include "nets/op_registry.h"
 #include "pipeline/camera/calibration.h"
@@ -20,11 +22,16 @@
 #include "pipeline/render/render_images.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
+#include "tools/smokesvd/option_checks.h"
 
 namespace smokesvd::cli {
 namespace {
 
 namespace fs = std::filesystem;
+
+constexpr int kMaxViews = 3600;
+// Pixels of all the images one volume renders to (and, with --mp4, of all volumes): 1 GiB of floats.
+constexpr int64_t kMaxPixels = int64_t{1} << 28;
 
 struct RenderArguments {
   std::vector<std::string> volumes;
@@ -95,6 +102,29 @@ std::vector<LabelledCamera> camerasFor(const RenderArguments& a, const Preset& p
   return cameras;
 }
 
+int64_t pixels(const std::vector<LabelledCamera>& cameras) {
+  int64_t total = 0;
+  for (const LabelledCamera& c : cameras) total += int64_t{c.camera.width} * c.camera.height;
+  return total;
+}
+
+void checkPixels(int64_t total, const std::string& what) {
+  if (total > kMaxPixels)
+    throw Error("render: " + what + " come to " + std::to_string(total) + " pixels, more than the " +
+                std::to_string(kMaxPixels) + " one render may hold; use fewer views or smaller images");
+}
+
+// Output names are the volumes' stems: two volumes of one stem would write each other's files.
+void refuseSameStems(const std::vector<std::string>& volumes) {
+  std::map<std::string, std::string> byStem;
+  for (const std::string& file : volumes) {
+    const auto [it, added] = byStem.emplace(fs::path(file).stem().string(), file);
+    if (!added)
+      throw Error("render: " + it->second + " and " + file + " would both write " + it->first +
+                  "_*.png; render them into separate --out folders (or rename one)");
+  }
+}
+
 void writeVideoOrFail(const fs::path& path, const std::vector<media::Image>& frames, double fps) {
   media::writeVideo(path, frames, fps);
   std::cout << "wrote " << path.string() << "\n";
@@ -103,7 +133,8 @@ void writeVideoOrFail(const fs::path& path, const std::vector<media::Image>& fra
 void renderVolumes(const GlobalOptions& global, const RenderArguments& a) {
   if (a.volumes.empty()) throw Error("render: give one or more volume files (.npy or .npz), or --overlay-frame");
   if (a.out.empty()) throw Error("render: --out FOLDER is required");
-  if (a.mp4 && !media::findFfmpeg()) throw Error("render --mp4: ffmpeg was not found (install it or set SMOKESVD_FFMPEG)");
+  refuseSameStems(a.volumes);
+  if (a.mp4) media::requireFfmpeg("render --mp4");
   const Preset& preset = smokesvd::preset(a.preset);
   const render::RenderSettings settings = settingsFrom(a);
   fs::create_directories(a.out);
@@ -113,6 +144,10 @@ void renderVolumes(const GlobalOptions& global, const RenderArguments& a) {
   for (const std::string& file : a.volumes) {
     const media::DensityVolume density = media::readDensityVolume(file, a.key);
     const std::vector<LabelledCamera> labelled = camerasFor(a, preset, density.grid);
+    checkPixels(pixels(labelled), file + ": its " + std::to_string(labelled.size()) + " views");
+    if (a.mp4 && a.turntable == 0)
+      checkPixels(pixels(labelled) * static_cast<int64_t>(a.volumes.size()),
+                  "the views of all " + std::to_string(a.volumes.size()) + " volumes (kept for the videos)");
     std::vector<Camera> cameras;
     labels.clear();
     for (const LabelledCamera& c : labelled) {
@@ -127,7 +162,7 @@ void renderVolumes(const GlobalOptions& global, const RenderArguments& a) {
     std::cout << file << ": " << images.size() << " views, grid " << density.grid.z << "x" << density.grid.y
               << "x" << density.grid.x << " -> " << a.out << "/" << stem << "_*.png\n";
     if (a.mp4 && a.turntable > 0) writeVideoOrFail(fs::path(a.out) / (stem + "_turntable.mp4"), images, a.fps);
-    perVolume.push_back(std::move(images));
+    if (a.mp4 && a.turntable == 0) perVolume.push_back(std::move(images));
   }
   if (a.mp4 && a.turntable == 0) {
     for (std::size_t v = 0; v < labels.size(); ++v) {
@@ -141,12 +176,16 @@ void renderVolumes(const GlobalOptions& global, const RenderArguments& a) {
 GridSize overlayGrid(const RenderArguments& a, const Preset& preset) {
   if (a.grid.empty()) return preset.grid;
   const std::vector<double> g = parseNumberList(a.grid, "--grid");
-  if (g.size() != 3 || g[0] < 1 || g[1] < 1 || g[2] < 1) throw Error("--grid: expected D,H,W (three positive sizes)");
-  return {.x = static_cast<int64_t>(g[2]), .y = static_cast<int64_t>(g[1]), .z = static_cast<int64_t>(g[0])};
+  const auto whole = [](double side) { return side >= 1 && side <= kMaxGridSide && side == std::trunc(side); };
+  if (g.size() != 3 || !whole(g[0]) || !whole(g[1]) || !whole(g[2]))
+    throw Error("--grid: expected D,H,W, three whole numbers from 1 to " + std::to_string(kMaxGridSide) + ", got '" +
+                a.grid + "'");
+  const GridSize grid{.x = static_cast<int64_t>(g[2]), .y = static_cast<int64_t>(g[1]), .z = static_cast<int64_t>(g[0])};
+  checkGridSize(grid, "--grid");
+  return grid;
 }
 
 void calibrationOverlay(const GlobalOptions& global, const RenderArguments& a) {
-  if (a.cameras.empty()) throw Error("render --overlay-frame: needs --cameras info.json");
   if (a.out.empty() || fs::path(a.out).extension() != ".png") throw Error("render --overlay-frame: --out FILE.png");
   if (a.volumes.size() > 1) throw Error("render --overlay-frame: give at most one volume");
   const Calibration calibration = readCalibration(a.cameras);
@@ -157,8 +196,13 @@ void calibrationOverlay(const GlobalOptions& global, const RenderArguments& a) {
   } else {
     density = media::readDensityVolume(a.volumes[0], a.key);
   }
+  const int width = a.width > 0 ? a.width : 270;
+  int64_t total = 0;
+  for (const CalibratedView& view : calibration.views)
+    total += 2 * int64_t{width} * (int64_t{width} * view.height / std::max(view.width, 1) + 1);  // frame and render
+  checkPixels(total, "the frames and renders of " + std::to_string(calibration.views.size()) + " cameras");
   const std::vector<render::ViewCheck> checks = render::checkCalibration(
-      calibration, fs::path(a.cameras).parent_path(), a.overlayFrame, a.width > 0 ? a.width : 270, density.grid);
+      calibration, fs::path(a.cameras).parent_path(), a.overlayFrame, width, density.grid);
   std::vector<Camera> cameras;
   for (const render::ViewCheck& check : checks) cameras.push_back(check.camera);
   render::RenderSettings settings = settingsFrom(a);
@@ -184,29 +228,43 @@ void addRenderCommand(CLI::App& app, const GlobalOptions& global, Action& action
                                          "'arr_0' [z,y,x,1] accepted)");
   c->add_option("--out", args.out, "output folder (or the .png file with --overlay-frame)");
   c->add_option("--preset", args.preset, "tiny, small or paper: default image size and view count");
-  c->add_option("--width", args.width, "image width in pixels")->check(CLI::PositiveNumber);
-  c->add_option("--height", args.height, "orbit image height in pixels")->check(CLI::PositiveNumber);
-  c->add_option("--views", args.views, "orbit views evenly on [0, 180) degrees")->check(CLI::PositiveNumber);
-  c->add_option("--angles", args.angles, "orbit angles in degrees, comma-separated");
-  c->add_option("--turntable", args.turntable, "N orbit views over a full turn")->check(CLI::PositiveNumber);
-  c->add_option("--cameras", args.cameras, "NeRF-style calibration JSON (e.g. ScalarFlow info.json)");
-  c->add_option("--camera", args.cameraNames, "render only this calibrated view (file_name), repeatable");
+  c->add_option("--width", args.width, "image width in pixels")->check(wholeNumber(1, kMaxImageSide));
+  CLI::Option* height = c->add_option("--height", args.height, "orbit image height in pixels")
+                            ->check(wholeNumber(1, kMaxImageSide));
+  CLI::Option* views = c->add_option("--views", args.views, "orbit views evenly on [0, 180) degrees")
+                           ->check(wholeNumber(1, kMaxViews));
+  CLI::Option* angles = c->add_option("--angles", args.angles, "orbit angles in degrees, comma-separated");
+  CLI::Option* turntable = c->add_option("--turntable", args.turntable, "N orbit views over a full turn")
+                               ->check(wholeNumber(1, kMaxViews));
+  CLI::Option* cameras = c->add_option("--cameras", args.cameras, "NeRF-style calibration JSON (e.g. ScalarFlow info.json)");
+  c->add_option("--camera", args.cameraNames, "render only this calibrated view (file_name), repeatable")->needs(cameras);
   c->add_option("--key", args.key, "array name inside .npz volumes");
-  c->add_option("--step", args.step, "march step in voxels");
-  c->add_option("--absorption", args.absorption, "extinction per unit density per voxel");
-  c->add_option("--ambient", args.ambient, "source radiance without the light");
-  c->add_option("--light", args.light, "x,y,z: direction toward a directional light (grid axes, y up)");
-  c->add_option("--light-intensity", args.lightIntensity, "light intensity");
-  c->add_option("--light-step", args.lightStep, "light march step in voxels");
-  c->add_option("--light-absorption", args.lightAbsorption, "extinction along light paths");
+  c->add_option("--step", args.step, "march step in voxels")->check(number(0.01, 100));
+  c->add_option("--absorption", args.absorption, "extinction per unit density per voxel")->check(number(0, 1e6));
+  c->add_option("--ambient", args.ambient, "source radiance without the light")->check(number(0, 1e6));
+  CLI::Option* light = c->add_option("--light", args.light, "x,y,z: direction toward a directional light (grid axes, y up)");
+  c->add_option("--light-intensity", args.lightIntensity, "light intensity")->check(number(0, 1e6))->needs(light);
+  c->add_option("--light-step", args.lightStep, "light march step in voxels")->check(number(0.01, 100))->needs(light);
+  c->add_option("--light-absorption", args.lightAbsorption, "extinction along light paths")
+      ->check(number(0, 1e6))
+      ->needs(light);
   c->add_option("--bits", args.bits, "PNG bits per sample")->check(CLI::IsMember({8, 16}));
-  c->add_option("--gain", args.gain, "multiply images by this before writing");
-  c->add_flag("--mp4", args.mp4, "also write mp4 videos (needs ffmpeg): one per view over the volumes, or "
-                                 "one per volume with --turntable");
-  c->add_option("--fps", args.fps, "mp4 frame rate")->check(CLI::PositiveNumber);
-  c->add_option("--overlay-frame", args.overlayFrame, "calibration check: draw the projected box on this frame of "
-                                                      "every calibrated video")->check(CLI::NonNegativeNumber);
-  c->add_option("--grid", args.grid, "D,H,W of the box for --overlay-frame without a volume");
+  c->add_option("--gain", args.gain, "multiply images by this before writing")->check(number(0, 1e6));
+  CLI::Option* mp4 = c->add_flag("--mp4", args.mp4, "also write mp4 videos (needs ffmpeg): one per view over the "
+                                                    "volumes, or one per volume with --turntable");
+  c->add_option("--fps", args.fps, "mp4 frame rate")->check(positiveNumber(1000))->needs(mp4);
+  CLI::Option* overlay = c->add_option("--overlay-frame", args.overlayFrame, "calibration check: draw the projected "
+                                                                             "box on this frame of every calibrated video")
+                             ->check(wholeNumber(0, 100000000))
+                             ->needs(cameras)
+                             ->excludes(mp4);
+  c->add_option("--grid", args.grid, "D,H,W of the box for --overlay-frame without a volume")->needs(overlay);
+  // One way to choose the cameras: calibrated, a turntable, angles or a number of orbit views.
+  for (CLI::Option* option : {views, angles, turntable, cameras})
+    for (CLI::Option* other : {views, angles, turntable, cameras})
+      if (option != other) option->excludes(other);
+  height->excludes(cameras);  // calibrated cameras keep their aspect: --width alone sets their size
+  overlay->excludes(views)->excludes(angles)->excludes(turntable);
   c->callback([&global, &action] {
     action = [&global] {
       if (args.overlayFrame >= 0) calibrationOverlay(global, args);

@@ -12,8 +12,10 @@
 
 #include "pipeline/progress.h"
 #include "pipeline/resim/resimulation.h"
+#include "pipeline/sim/scene.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
+#include "tools/smokesvd/option_checks.h"
 
 namespace smokesvd::cli {
 namespace {
@@ -54,7 +56,7 @@ void addResimCommand(CLI::App& app, const GlobalOptions& global, Action& action)
   c->add_option("reconstruction", a.source, "a folder written by smokesvd reconstruct")->required();
   c->add_option("--out", a.out, "output folder (the simulator's layout, renders and mp4)")->required();
   c->add_option("--frames", a.frames, "frames to simulate (default: the reconstruction's; more continue past the video)")
-      ->check(CLI::PositiveNumber);
+      ->check(wholeNumber(1, sim::kMaxFrames));
   c->add_option("--obstacle", a.obstacles, "sphere:X,Y,Z,R[@A[:B]]: a sphere (reconstruction cells) from frame A (to B); repeatable")
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
@@ -63,10 +65,10 @@ void addResimCommand(CLI::App& app, const GlobalOptions& global, Action& action)
                 "(a cell-centred acceleration [z,y,x,3] on the reconstruction's grid); repeatable")
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  c->add_option("--upres", a.upres, "cells per reconstruction cell along each axis: 1 (default) to 4")->check(CLI::Range(1, 4));
+  c->add_option("--upres", a.upres, "cells per reconstruction cell along each axis: 1 (default) to 4")->check(wholeNumber(1, 4));
   c->add_option("--vorticity", a.vorticity, "vorticity confinement strength (default 0; e.g. 0.1 with --upres 2)")
-      ->check(CLI::NonNegativeNumber);
-  c->add_option("--inflow-scale", a.inflowScale, "multiplies the reconstructed inflow (default 1)")->check(CLI::NonNegativeNumber);
+      ->check(number(0, 1e3));
+  c->add_option("--inflow-scale", a.inflowScale, "multiplies the reconstructed inflow (default 1)")->check(number(0, 1e6));
   c->add_flag("--overwrite", a.overwrite, "replace a re-simulation in --out");
   c->add_flag("--no-videos", a.noVideos, "skip front.mp4 and side.mp4");
   c->callback([&global, &action] { action = [&global] { runResim(global, a); }; });

@@ -5,8 +5,10 @@
 
 #include "nets/io/file_io.h"
 #include "pipeline/reconstruct/side_view_rollout.h"
+#include "pipeline/sim/scene.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
+#include "tools/smokesvd/option_checks.h"
 
 namespace smokesvd::cli {
 namespace {
@@ -25,13 +27,14 @@ void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& actio
   c->add_option("--data", a.data, "folder of simulated scenes (their validation split is used)")->required();
   c->add_option("--models", a.models, "folder of trained networks (default: the shipped models/<preset>)");
   c->add_option("--preset", a.preset, "tiny, small (default) or paper");
-  c->add_option("--frames", a.frames, "frames of the rollout (default 40)")->check(CLI::PositiveNumber);
-  c->add_option("--scenes", a.scenes, "validation scenes to roll out (default 6)")->check(CLI::PositiveNumber);
-  c->add_option("--validation-every", a.validationEvery, "the dataset's split: every N-th scene is held out (default 10)");
-  c->add_option("--ddim-steps", a.ddimSteps, "DDIM steps per frame (default 20)")->check(CLI::PositiveNumber);
-  c->add_option("--init-steps", a.initSteps, "DDIM steps of frames 0 and 1 (default 50)")->check(CLI::PositiveNumber);
-  c->add_option("--eta", a.eta, "DDIM eta (default 1)")->check(CLI::NonNegativeNumber);
-  c->add_option("--seed", a.seed, "sampling seed");
+  c->add_option("--frames", a.frames, "frames of the rollout (default 40)")->check(wholeNumber(1, sim::kMaxFrames));
+  c->add_option("--scenes", a.scenes, "validation scenes to roll out (default 6)")->check(wholeNumber(1, 100000));
+  c->add_option("--validation-every", a.validationEvery, "the dataset's split: every N-th scene is held out (default 10)")
+      ->check(wholeNumber(1, 100000));
+  c->add_option("--ddim-steps", a.ddimSteps, "DDIM steps per frame (default 20)")->check(wholeNumber(1, 10000));
+  c->add_option("--init-steps", a.initSteps, "DDIM steps of frames 0 and 1 (default 50)")->check(wholeNumber(1, 10000));
+  c->add_option("--eta", a.eta, "DDIM eta (default 1)")->check(number(0, 100));
+  c->add_option("--seed", a.seed, "sampling seed")->check(wholeNumber(0, INT64_MAX));
   c->add_option("--out", a.out, "JSON file of the per-frame figures");
   c->callback([&global, &action] {
     action = [&global] {

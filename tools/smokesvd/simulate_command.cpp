@@ -11,12 +11,14 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "pipeline/preset.h"
 #include "pipeline/sim/random_scene.h"
 #include "pipeline/sim/run.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
+#include "tools/smokesvd/option_checks.h"
 
 namespace smokesvd::cli {
 namespace {
@@ -66,6 +68,8 @@ class ProgressLine {
   bool terminal_;
 };
 
+constexpr int kMaxScenes = 100000;
+
 void simulate(const GlobalOptions& global, const SimulateArguments& args) {
   if (args.scene.empty() == (args.scenes == 0))
     throw Error("simulate: give either --scene FILE or --scenes N (random scenes)");
@@ -73,69 +77,82 @@ void simulate(const GlobalOptions& global, const SimulateArguments& args) {
     throw Error("simulate: a scene file fixes its resolution; --preset and --resolution apply to random scenes");
   if (!args.resolution.empty() && args.resolution.size() != 3)
     throw Error("simulate: --resolution expects three cell counts X,Y,Z");
+  if (args.scenes > 0 && args.seed > static_cast<uint64_t>(INT64_MAX) - static_cast<uint64_t>(args.scenes))
+    throw Error("simulate: --seed plus --scenes must stay below 2^63 (the seeds scene.json can hold)");
 
-  std::vector<sim::Scene> scenes;
-  std::vector<std::filesystem::path> directories;
+  // Scenes are made one at a time as the run reaches them (a list of a million is never built).
   const std::filesystem::path out(args.out);
+  std::optional<sim::Scene> fromFile;
+  GridSize resolution;
+  int frames = 0;
+  const Preset* p = nullptr;
   if (!args.scene.empty()) {
-    sim::Scene scene = sim::readScene(args.scene);
-    if (args.frames > 0) scene.frames = args.frames;
-    scenes.push_back(scene);
-    directories.push_back(out);
+    fromFile = sim::readScene(args.scene);
+    if (args.frames > 0) fromFile->frames = args.frames;
+    frames = fromFile->frames;
   } else {
-    const Preset& p = preset(args.preset);
-    GridSize resolution = p.grid;
+    p = &preset(args.preset);
+    resolution = p->grid;
     if (!args.resolution.empty()) {
-      for (int64_t side : args.resolution)
-        if (side < 3 || side > 1024) throw Error("simulate: --resolution sides must be between 3 and 1024 cells");
       resolution = {.x = args.resolution[0], .y = args.resolution[1], .z = args.resolution[2]};
+      checkGridSize(resolution, "simulate --resolution");
     }
-    const int frames = args.frames > 0 ? args.frames : p.frames;
-    for (int i = 0; i < args.scenes; ++i) {
-      sim::Scene scene = sim::randomScene(args.seed + static_cast<uint64_t>(i), resolution, frames);
-      scene.render.views = p.views;
-      if (args.resolution.empty()) {
-        scene.render.width = p.imageWidth;
-        scene.render.height = p.imageHeight;
-      }
-      scenes.push_back(scene);
-      char name[32];
-      std::snprintf(name, sizeof name, "scene_%04d", i);
-      directories.push_back(out / name);
-    }
+    frames = args.frames > 0 ? args.frames : p->frames;
   }
+  const int count = fromFile ? 1 : args.scenes;
+  auto sceneAt = [&](int i) {
+    if (fromFile) return *fromFile;
+    sim::Scene scene = sim::randomScene(args.seed + static_cast<uint64_t>(i), resolution, frames);
+    scene.render.views = p->views;
+    if (args.resolution.empty()) {
+      scene.render.width = p->imageWidth;
+      scene.render.height = p->imageHeight;
+    }
+    return scene;
+  };
+  auto directoryAt = [&](int i) {
+    if (fromFile) return out;
+    char name[32];
+    std::snprintf(name, sizeof name, "scene_%04d", i);
+    return out / name;
+  };
 
   Context context(global.contextOptions());
-  ProgressLine line(static_cast<int>(scenes.size()), scenes.front().frames);
-  for (std::size_t i = 0; i < scenes.size(); ++i) {
+  ProgressLine line(count, frames);
+  for (int i = 0; i < count; ++i) {
+    const sim::Scene scene = sceneAt(i);
+    const std::filesystem::path directory = directoryAt(i);
     sim::RunOptions options;
     options.render = !args.noRender;
     options.overwrite = args.overwrite;
-    options.progress = [&line, i](const sim::RunProgress& p) { line.update(static_cast<int>(i), p); };
-    const sim::RunResult result = sim::runScene(context, scenes[i], directories[i], options);
+    options.progress = [&line, i](const sim::RunProgress& progress) { line.update(i, progress); };
+    const sim::RunResult result = sim::runScene(context, scene, directory, options);
     line.finishScene();
     if (result.framesSimulated == 0 && result.complete)
-      std::cerr << directories[i].string() << ": already complete, skipped\n";
+      std::cerr << directory.string() << ": already complete, skipped\n";
     else if (result.resumed)
-      std::cerr << directories[i].string() << ": resumed, " << result.framesSimulated << " frames simulated\n";
+      std::cerr << directory.string() << ": resumed, " << result.framesSimulated << " frames simulated\n";
   }
 }
 
 void addSimulateCommand(CLI::App& app, const GlobalOptions& global, Action& action) {
   static SimulateArguments args;
   CLI::App* command = app.add_subcommand("simulate", "simulate smoke scenes: fields (.npz) and orbit renders (.png) per frame");
-  command->add_option("--scene", args.scene, "scene JSON file (docs/simulation.md)")->check(CLI::ExistingFile);
-  command->add_option("--scenes", args.scenes, "draw this many random scenes")->check(CLI::PositiveNumber);
-  command->add_option("--seed", args.seed, "seed of the first random scene (scene i uses seed + i)");
+  command->add_option("--scene", args.scene, "scene JSON file (docs/simulation.md)");
+  command->add_option("--scenes", args.scenes, "draw this many random scenes")->check(wholeNumber(1, kMaxScenes));
+  command->add_option("--seed", args.seed, "seed of the first random scene (scene i uses seed + i)")
+      ->check(wholeNumber(0, INT64_MAX));
   command->add_option("--preset", args.preset, "resolution, views and frames of random scenes: tiny, small, paper")
       ->each([](const std::string&) { args.presetGiven = true; });
   command->add_option("--resolution", args.resolution, "grid cells X,Y,Z of random scenes (overrides the preset)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(wholeNumber(sim::kMinSceneSide, kMaxGridSide));
   command->add_option("--frames", args.frames, "frames per scene (overrides the preset or the scene file)")
-      ->check(CLI::PositiveNumber);
+      ->check(wholeNumber(1, sim::kMaxFrames));
   command->add_option("--out", args.out, "output directory")->required();
   command->add_flag("--no-render", args.noRender, "skip the orbit-view PNGs");
-  command->add_flag("--overwrite", args.overwrite, "discard a previous run in the output directory instead of resuming it");
+  command->add_flag("--overwrite", args.overwrite,
+                    "discard a previous run in the output directory (only the files a run wrote) instead of resuming it");
   command->callback([&global, &action] { action = [&global] { simulate(global, args); }; });
 }
 

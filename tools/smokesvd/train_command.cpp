@@ -15,6 +15,7 @@
 #include "pipeline/train/training_run.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
+#include "tools/smokesvd/option_checks.h"
 
 namespace smokesvd::cli {
 namespace {
@@ -74,8 +75,8 @@ void addTrainCommand(CLI::App& app, const GlobalOptions& global, Action& action)
   command->add_option("--config", args.config, "config JSON instead of the preset's (docs/models.md)");
   command->add_option("--models", args.models, "folder of trained networks this one uses (default: --out's parent)");
   command->add_option("--init", args.init, "start from these weights (model.safetensors of the same architecture)");
-  command->add_option("--steps", args.steps, "training steps (overrides the config)")->check(CLI::PositiveNumber);
-  command->add_option("--seed", args.seed, "seed of the sample draws");
+  command->add_option("--steps", args.steps, "training steps (overrides the config)")->check(wholeNumber(1, 1000000000));
+  command->add_option("--seed", args.seed, "seed of the sample draws")->check(wholeNumber(0, INT64_MAX));
   command->add_flag("--resume", args.resume, "continue the run in --out from its checkpoint");
   command->add_flag("--overwrite", args.overwrite, "discard the run in --out");
   command->callback([&global, &action] { action = [&global] { train(global, args); }; });

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "runtime/context.h"
+#include "tests/harness/gpu_test.h"
 #include "tests/pipeline/render/adjoint_checks.h"
 #include "tests/pipeline/render/scenes.h"
 
@@ -12,19 +13,8 @@ namespace {
 
 class EmulatedAtomicsTest : public ::testing::Test {
  protected:
-  static Context& emulated() {
-    static Context context([] {
-      ContextOptions options;
-      options.validation = true;
-      options.emulateFloatAtomics = true;
-      return options;
-    }());
-    return context;
-  }
-  void TearDown() override {
-    for (const std::string& message : emulated().takeValidationMessages())
-      ADD_FAILURE() << "validation layer: " << message;
-  }
+  static Context& emulated() { return sharedContext(ContextOptions{.emulateFloatAtomics = true}); }
+  void TearDown() override { expectNoValidationMessages(emulated()); }
 };
 
 TEST_F(EmulatedAtomicsTest, ContextReportsNoFloatAtomics) { EXPECT_FALSE(emulated().info().float32AtomicAdd); }

@@ -69,6 +69,18 @@ TEST(Cli, BenchWithUnknownFilterFails) {
   EXPECT_EQ(countLines(result.err), 1) << result.err;
 }
 
+// With validation on, whatever the layer reports fails the command, even when it came while the context
+// was created or destroyed. The best-practices checks (forced on here) always have something to say.
+TEST(Cli, ValidationMessagesFailTheCommand) {
+  const CommandResult result =
+      runSmokesvd("--validation info", "VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_BEST_PRACTICES_EXT");
+  EXPECT_EQ(result.exitCode, 1);
+  EXPECT_EQ(countLines(result.err), 1) << result.err;
+  EXPECT_EQ(result.err.rfind("smokesvd: error: the Vulkan validation layer reported ", 0), 0u) << result.err;
+  EXPECT_NE(result.err.find("BestPractices"), std::string::npos) << result.err;
+  EXPECT_EQ(runSmokesvd("--validation info").exitCode, 0) << "and without them, nothing to report";
+}
+
 TEST(Cli, UnknownSubcommandFails) {
   const CommandResult result = runSmokesvd("frobnicate");
   EXPECT_NE(result.exitCode, 0);

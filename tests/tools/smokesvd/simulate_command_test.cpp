@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <csignal>
 #include <fstream>
 
 #include "nets/io/npy.h"
@@ -23,6 +24,12 @@ fs::path scratchDirectory(const std::string& name) {
 }
 
 int countLines(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
+
+// A two-frame scene file of 8 x 12 x 8 cells; returns its path.
+std::string writeTinyScene(const fs::path& path) {
+  std::ofstream(path) << R"({"resolution": [8, 12, 8], "frames": 2, "render": {"views": 2}})";
+  return path.string();
+}
 
 TEST(SimulateCli, RandomScenesWriteFieldsRendersAndTheirScene) {
   const fs::path out = scratchDirectory("random");
@@ -83,6 +90,45 @@ TEST(SimulateCli, ConflictingOptionsAreErrors) {
                                          " --resolution 8,8,8 --out " + out.string());
   EXPECT_NE(both.exitCode, 0);
   EXPECT_NE(both.err.find("--resolution"), std::string::npos) << both.err;
+}
+
+// --overwrite never deletes what a run did not write: `--out ~ --overwrite` must not wipe ~/renders.
+TEST(SimulateCli, OverwriteRefusesAFolderThatIsNotARun) {
+  const fs::path home = scratchDirectory("home");
+  fs::create_directories(home / "renders" / "holiday");
+  std::ofstream(home / "renders" / "holiday" / "beach.png") << "mine";
+  const CommandResult result = runSmokesvd("simulate --scene " + writeTinyScene(home / "../home-scene.json") +
+                                           " --no-render --overwrite --out " + home.string());
+  EXPECT_EQ(result.exitCode, 1);
+  EXPECT_EQ(countLines(result.err), 1) << result.err;
+  EXPECT_NE(result.err.find("is not a run of smokesvd simulate"), std::string::npos) << result.err;
+  EXPECT_TRUE(fs::exists(home / "renders" / "holiday" / "beach.png"));
+}
+
+TEST(SimulateCli, AFinishedRunIsExtendedWithMoreFrames) {
+  const fs::path out = scratchDirectory("extend");
+  ASSERT_EQ(runSmokesvd("simulate --scene " + writeTinyScene(out / "../extend-scene.json") + " --no-render --out " +
+                        out.string()).exitCode,
+            0);
+  ASSERT_FALSE(fs::exists(out / "fields" / "density_0002.npz"));
+  const CommandResult more = runSmokesvd("simulate --scene " + (out / "scene.json").string() + " --frames 3 --no-render --out " +
+                                         out.string());
+  ASSERT_EQ(more.exitCode, 0) << more.err;
+  EXPECT_NE(more.err.find("resumed, 1 frames simulated"), std::string::npos) << more.err;
+  EXPECT_TRUE(fs::exists(out / "fields" / "density_0002.npz"));
+  EXPECT_EQ(sim::readScene(out / "scene.json").frames, 3);
+}
+
+// Ctrl-C in the middle of a run: whenever it lands, no temporary file is left, and the run resumes.
+TEST(SimulateCli, AnInterruptLeavesNoTemporaryFiles) {
+  const fs::path out = scratchDirectory("interrupt");
+  const std::string arguments = "simulate --scenes 1 --seed 3 --preset tiny --frames 400 --out " + out.string();
+  const CommandResult interrupted = runSmokesvd(arguments, "timeout --preserve-status -s INT 4");
+  EXPECT_EQ(interrupted.exitCode, 128 + SIGINT) << interrupted.err;
+  std::vector<std::string> temporaries;
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(out))
+    if (entry.path().string().find(".tmp") != std::string::npos) temporaries.push_back(entry.path().string());
+  EXPECT_EQ(temporaries, std::vector<std::string>{});
 }
 
 }  // namespace
