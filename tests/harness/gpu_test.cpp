@@ -40,17 +40,23 @@ Context& sharedContext(ContextOptions options) {
   return *context;
 }
 
-Context& testContext() { return sharedContext({}); }
+Context& testContext() { return sharedContext({.guardTensors = true}); }
+
+Context& unguardedTestContext() { return sharedContext({}); }
 
 void expectNoValidationMessages(Context& context) {
   for (const std::string& message : context.takeValidationMessages()) ADD_FAILURE() << "validation layer: " << message;
 }
 
 void GpuTest::SetUp() {
-  for (const std::string& message : testContext().takeValidationMessages())
-    ADD_FAILURE() << "validation message before the test: " << message;
+  testContext();
+  for (auto& [key, context] : sharedContexts())
+    for (const std::string& message : context->takeValidationMessages())
+      ADD_FAILURE() << "validation message before the test: " << message;
 }
 
-void GpuTest::TearDown() { expectNoValidationMessages(testContext()); }
+void GpuTest::TearDown() {
+  for (auto& [key, context] : sharedContexts()) expectNoValidationMessages(*context);
+}
 
 }  // namespace smokesvd::testing

@@ -5,9 +5,9 @@ namespace smokesvd::testing {
 const std::vector<ShaderCoveredElsewhere>& shadersWithoutOps() {
   static const std::vector<ShaderCoveredElsewhere> table = {
       // benchmarks and the device's reference figures
-      {"bench/fma_peak", "tests/tools/smokesvd/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
-      {"tensor/copy_storage", "tests/tools/smokesvd/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
-      {"tensor/empty", "tests/tools/smokesvd/cli_test.cpp", "Cli.BenchJsonReportsDeviceAndKernels"},
+      {"bench/fma_peak", "tests/runtime/benchmark_kernels_test.cpp", "BenchmarkKernelsTest.FmaPeakComputesItsChains"},
+      {"tensor/copy_storage", "tests/runtime/benchmark_kernels_test.cpp", "BenchmarkKernelsTest.StorageCopyCopiesEveryElement"},
+      {"tensor/empty", "tests/runtime/benchmark_kernels_test.cpp", "BenchmarkKernelsTest.EmptyDispatchesLeaveABatchIntact"},
       // evaluation metrics
       {"eval/ssim", "tests/pipeline/eval/image_metrics_test.cpp", "ImageMetricsTest.MseAndSsimOfRandomStacksMatchTheDoubleFormulas"},
       // the optimiser and the diffusion sampler

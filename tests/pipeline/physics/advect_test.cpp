@@ -64,6 +64,21 @@ AdvectionCase<double> widened(const AdvectionCase<float>& input) {
   return result;
 }
 
+// Adds a flow turning about the vertical line x = X/2, z = Z/2, `rate` cells per frame per cell of
+// distance, and rising at 1.5 - 0.1 y.
+AdvectionCase<float> swirled(AdvectionCase<float> input, double rate) {
+  const ReferenceGrid& grid = input.grid;
+  const double cx = grid.x / 2.0, cz = grid.z / 2.0;
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < grid.z; ++k)
+      for (int j = 0; j < grid.y; ++j)
+        for (int i = 0; i < grid.x; ++i) {
+          const double swirl = c == 0 ? -rate * (k - cz) : c == 2 ? rate * (i - cx) : 1.5 - 0.1 * j;
+          input.velocity[c * grid.cells() + grid.index(i, j, k)] += static_cast<float>(swirl);
+        }
+  return input;
+}
+
 // The case on the GPU, with the flag grid's masks recorded into `stream`.
 struct GpuCase {
   GpuCase(Stream& stream, const AdvectionCase<float>& input)
@@ -109,11 +124,11 @@ TEST_P(AdvectTest, ForwardMatchesReference) { checkForward({7, 9, 5}, false, 11,
 
 TEST_P(AdvectTest, ForwardWithInflowAndFastFlowMatchesReference) { checkForward({9, 5, 7}, true, 21, 4.0f, 0.8f); }
 
-// Gradients w.r.t. the advected field and the velocity, each with the other input held fixed.
-TEST_P(AdvectTest, BackwardMatchesFiniteDifferences) {
-  const AdvectionCase<float> input = randomCase({7, 9, 5}, GetParam().mac, false, 41, 1.6f);
+// Gradients w.r.t. the advected field and the velocity, each with the other input held fixed, every
+// element against central differences of the reference.
+void checkBackward(const AdvectionCase<float>& input, const physics::AdvectionParams& p, uint64_t seed) {
+  Context& context = testContext();
   const AdvectionCase<double> exact = widened(input);
-  const physics::AdvectionParams p = params(0.9f);
   AdvectionDiagnostics diagnostics;
   referenceAdvect(exact, p, &diagnostics);
   ASSERT_GT(diagnostics.margin, 1e-5) << "a finite-difference step would cross a switch point; pick another seed";
@@ -122,14 +137,14 @@ TEST_P(AdvectTest, BackwardMatchesFiniteDifferences) {
     EXPECT_GT(diagnostics.reverted, 0);
   }
 
-  Stream stream(context());
+  Stream stream(context);
   const GpuCase gpu(stream, input);
   std::vector<float> upstream;
-  Tensor gradOut = randomTensor(context(), gpu.field.shape(), 42, -1.0f, 1.0f, &upstream);
+  Tensor gradOut = randomTensor(context, gpu.field.shape(), seed, -1.0f, 1.0f, &upstream);
   physics::AdvectionCache cache;
-  Tensor out(context(), gpu.field.shape());
-  Tensor gradField = poisonedTensor(context(), gpu.field.shape());
-  Tensor gradVelocity = poisonedTensor(context(), gpu.velocity.shape());
+  Tensor out(context, gpu.field.shape());
+  Tensor gradField = poisonedTensor(context, gpu.field.shape());
+  Tensor gradVelocity = poisonedTensor(context, gpu.velocity.shape());
   physics::advect(stream, gpu.flags, gpu.field, gpu.velocity, nullptr, p, out, &cache);
   physics::advectBackward(stream, gpu.flags, gpu.field, gpu.velocity, p, gradOut, &cache,
                           {.field = &gradField, .velocity = &gradVelocity});
@@ -154,6 +169,17 @@ TEST_P(AdvectTest, BackwardMatchesFiniteDifferences) {
   EXPECT_TRUE(allClose(gradVelocity, expectedVelocity, {2e-5, 1e-4}));
 }
 
+TEST_P(AdvectTest, BackwardMatchesFiniteDifferences) {
+  checkBackward(randomCase({7, 9, 5}, GetParam().mac, false, 41, 1.6f), params(0.9f), 42);
+}
+
+// The same on a grid of two gather tiles along every axis (8^3 cells each), with a swirl so that the
+// tiles' windows differ.
+TEST_P(AdvectTest, BackwardMatchesFiniteDifferencesAcrossTilesElementByElement) {
+  const ReferenceGrid grid{10, 9, 11};
+  checkBackward(swirled(randomCase(grid, GetParam().mac, false, 71, 0.6f), 0.2), params(1.0f), 72);
+}
+
 // Without the forward's cache the backward recomputes it and gives the same gradients.
 TEST_P(AdvectTest, BackwardWithoutCacheRecomputesIt) {
   const AdvectionCase<float> input = randomCase({5, 7, 5}, GetParam().mac, false, 51, 1.2f);
@@ -175,15 +201,7 @@ TEST_P(AdvectTest, BackwardWithoutCacheRecomputesIt) {
 // On a grid of many gather tiles with a spatially varying flow (so the tiles' windows differ), the
 // gradients' projections on random directions match central differences of the reference along them.
 TEST_P(AdvectTest, BackwardMatchesDirectionalDerivativesAcrossTiles) {
-  const ReferenceGrid grid{21, 13, 18};
-  AdvectionCase<float> input = randomCase(grid, GetParam().mac, false, 61, 0.3f);
-  for (int c = 0; c < 3; ++c)
-    for (int k = 0; k < grid.z; ++k)
-      for (int j = 0; j < grid.y; ++j)
-        for (int i = 0; i < grid.x; ++i) {
-          const double swirl = c == 0 ? -0.22 * (k - 9.0) : c == 2 ? 0.22 * (i - 10.5) : 1.5 - 0.1 * j;
-          input.velocity[c * grid.cells() + grid.index(i, j, k)] += static_cast<float>(swirl);
-        }
+  const AdvectionCase<float> input = swirled(randomCase({21, 13, 18}, GetParam().mac, false, 61, 0.3f), 0.22);
   const AdvectionCase<double> exact = widened(input);
   const physics::AdvectionParams p = params(1.0f);
   AdvectionDiagnostics diagnostics;
