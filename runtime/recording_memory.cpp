@@ -8,11 +8,11 @@ RecordingMemory::RecordingMemory(bool reuse) : reuse_(reuse), recording_(nextSer
 
 RecordingMemory::~RecordingMemory() { clear(); }
 
-void RecordingMemory::use(Buffer& buffer, bool reads, bool writes) {
+void RecordingMemory::use(Buffer& buffer, bool reads, bool writes, const std::function<bool(VkBuffer)>& recent) {
   const bool untouched = buffer.untouched_;
   buffer.untouched_ = false;
   if (untouched && reuse_ && buffer.serial_ > recording_ && writes && !reads) {
-    if (std::shared_ptr<BufferMemory> dead = takeDead(buffer.capacity())) {
+    if (std::shared_ptr<BufferMemory> dead = takeDead(buffer.capacity(), recent)) {
       dead->lives_.reused = true;
       stats_.reusedBytes += dead->capacity();
       ++stats_.reusedBuffers;
@@ -45,15 +45,20 @@ void RecordingMemory::hold(const std::shared_ptr<BufferMemory>& memory, bool bor
   ++stats_.heldBuffers;
 }
 
-// The oldest memory born here that only the recording still holds: the least likely to need a barrier.
-std::shared_ptr<BufferMemory> RecordingMemory::takeDead(VkDeviceSize capacity) {
+// The oldest memory born here that only the recording still holds and that no access since the last
+// barrier uses; else the oldest that one does.
+std::shared_ptr<BufferMemory> RecordingMemory::takeDead(VkDeviceSize capacity,
+                                                        const std::function<bool(VkBuffer)>& recent) {
   auto found = born_.find(capacity);
   if (found == born_.end()) return nullptr;
+  std::shared_ptr<BufferMemory> costsABarrier;
   for (std::size_t index : found->second) {
     const std::shared_ptr<BufferMemory>& memory = held_[index];
-    if (memory.use_count() == 1 && !memory->lives_.foreign) return memory;
+    if (memory.use_count() != 1 || memory->lives_.foreign) continue;
+    if (!recent(memory->handle())) return memory;
+    if (!costsABarrier) costsABarrier = memory;
   }
-  return nullptr;
+  return costsABarrier;
 }
 
 void RecordingMemory::clear() {

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <unordered_map>
 #include <unordered_set>
@@ -49,15 +50,17 @@ class RecordingMemory {
 
   // Before a command that uses `buffer` is recorded: holds its memory for the recording and, where the
   // rules above allow it, first backs `buffer` with the memory of a dead tensor of the recording.
+  // `recent(handle)` tells whether the stream has recorded an access to a memory since its last
+  // barrier: such memory is taken only if no other is dead, since reusing it costs a barrier.
   // Throws Error if the command would write memory another recording reuses.
-  void use(Buffer& buffer, bool reads, bool writes);
+  void use(Buffer& buffer, bool reads, bool writes, const std::function<bool(VkBuffer)>& recent);
   // Lets go of everything; what is recorded next is a new recording.
   void clear();
   StreamMemory stats() const { return stats_; }
 
  private:
   void hold(const std::shared_ptr<BufferMemory>& memory, bool born);
-  std::shared_ptr<BufferMemory> takeDead(VkDeviceSize capacity);
+  std::shared_ptr<BufferMemory> takeDead(VkDeviceSize capacity, const std::function<bool(VkBuffer)>& recent);
 
   bool reuse_;
   uint64_t recording_;

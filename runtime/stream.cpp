@@ -109,7 +109,13 @@ void Stream::useBuffers(std::span<const Arg> args, const std::vector<BindingInfo
       same->writes = same->writes || bindings[i].writes;
     }
   }
-  for (const Use& use : uses) memory_.use(*use.buffer, use.reads, use.writes);
+  for (const Use& use : uses) hold(*use.buffer, use.reads, use.writes);
+}
+
+void Stream::hold(Buffer& buffer, bool reads, bool writes) {
+  memory_.use(buffer, reads, writes, [this](VkBuffer handle) {
+    return readSinceBarrier_.count(handle) > 0 || writtenSinceBarrier_.count(handle) > 0;
+  });
 }
 
 void Stream::access(const Buffer& buffer, bool reads, bool writes) {
@@ -250,8 +256,8 @@ void Stream::copy(const Tensor& source, const Tensor& destination) {
   if (source.numel() == 0) return;
   begin();
   const bool inPlace = &source.buffer() == &destination.buffer();
-  memory_.use(source.buffer(), true, inPlace);
-  if (!inPlace) memory_.use(destination.buffer(), false, true);
+  hold(source.buffer(), true, inPlace);
+  if (!inPlace) hold(destination.buffer(), false, true);
   access(source.buffer(), true, false);
   access(destination.buffer(), false, true);
   VkBufferCopy region{0, 0, source.bytes()};
@@ -263,7 +269,7 @@ void Stream::copy(const Tensor& source, const Tensor& destination) {
 void Stream::fillZero(const Tensor& tensor) {
   if (tensor.numel() == 0) return;
   begin();
-  memory_.use(tensor.buffer(), false, true);
+  hold(tensor.buffer(), false, true);
   access(tensor.buffer(), false, true);
   vkCmdFillBuffer(commands_, tensor.buffer().handle(), 0, tensor.bytes(), 0);
   writtenSinceBarrier_.insert(tensor.buffer().handle());

@@ -124,6 +124,8 @@ class Stream {
   // Holds the memory of each buffer the dispatch binds (which may re-back a fresh output, so before any
   // barrier decision or descriptor is made).
   void useBuffers(std::span<const Arg> args, const std::vector<BindingInfo>& bindings);
+  // Holds `buffer`'s memory for the recording (RecordingMemory::use).
+  void hold(Buffer& buffer, bool reads, bool writes);
   // Emits a barrier if this access would race with one recorded since the last barrier.
   void access(const Buffer& buffer, bool reads, bool writes);
   void barrier();

@@ -50,6 +50,30 @@ TEST_F(BufferReuseTest, ADeadTensorBacksALaterOneBehindABarrier) {
   }
 }
 
+// Of the dead memories, one that no command since the last barrier touched is taken first: reusing it
+// costs no barrier.
+TEST_F(BufferReuseTest, PrefersMemoryThatNeedsNoBarrier) {
+  const Tensor x = randomTensor(context(), {kN}, 5);
+  Stream stream(context());
+  Tensor p(context(), {kN}), q(context(), {kN}), r(context(), {kN}), s(context(), {kN}), t(context(), {kN});
+  ops::scale(stream, x, 2.0f, p);
+  ops::scale(stream, x, 3.0f, q);
+  ops::scale(stream, q, 5.0f, r);  // barrier 1
+  ops::add(stream, r, p, t);       // barrier 2
+  Tensor u(context(), {kN});
+  ops::scale(stream, p, 7.0f, u);  // p is read after barrier 2, q is not
+  const VkBuffer qMemory = q.buffer().handle();
+  p = Tensor{};
+  q = Tensor{};
+  Tensor v(context(), {kN});
+  ops::scale(stream, x, 11.0f, v);
+  EXPECT_EQ(v.buffer().handle(), qMemory);
+  if (!stream.checksFinite()) {
+    EXPECT_EQ(stream.barrierCount(), 2u);
+  }
+  stream.submit();
+}
+
 // Tensors whose contents come from the host, and tensors made before the recording began, keep memory of
 // their own: the recording does not decide what they hold.
 TEST_F(BufferReuseTest, HostDataAndTensorsFromBeforeKeepTheirMemory) {
