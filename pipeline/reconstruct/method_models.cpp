@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <vector>
 
 #include "nets/io/file_io.h"
 #include "nets/models/model_json.h"
@@ -33,7 +34,7 @@ diffusion::NoiseSchedule scheduleOf(const networks::NetworkConfig& c) {
 
 }  // namespace
 
-MethodModels::MethodModels(Context& context, const std::filesystem::path& folder, const Preset& preset) {
+MethodModels::MethodModels(Context& context, const std::filesystem::path& folder, const Preset& preset, bool sideViews) {
   if (!std::filesystem::is_directory(folder))
     throw Error(folder.string() + ": no models folder (train the networks with `smokesvd train`, or give --models)");
   auto load = [&](Network n, modules::Module& module, const networks::TrainedModel& trained) {
@@ -43,14 +44,18 @@ MethodModels::MethodModels(Context& context, const std::filesystem::path& folder
   auto unet3 = [](const networks::TrainedModel& t) { return models::unet3PlusFromJson(t.config.model, t.config.source + " [model]"); };
   auto ddpm = [](const networks::TrainedModel& t) { return models::ddpmUNetFromJson(t.config.model, t.config.source + " [model]"); };
 
-  const auto sv = networks::findTrainedModel(folder, Network::SvDiff, preset);
-  sideView = std::make_unique<networks::SideViewSynthesizer>(context, ddpm(sv), 1, 5);
-  load(Network::SvDiff, sideView->net(), sv);
-  schedule = scheduleOf(sv.config);
-  const auto svi = networks::findTrainedModel(folder, Network::SvDiffInit, preset);
-  sideViewInit = std::make_unique<networks::SideViewSynthesizer>(context, ddpm(svi), 2, 2);
-  load(Network::SvDiffInit, sideViewInit->net(), svi);
-  initSchedule = scheduleOf(svi.config);
+  std::vector<modules::Module*> modules;
+  if (sideViews) {
+    const auto sv = networks::findTrainedModel(folder, Network::SvDiff, preset);
+    sideView = std::make_unique<networks::SideViewSynthesizer>(context, ddpm(sv), 1, 5);
+    load(Network::SvDiff, sideView->net(), sv);
+    schedule = scheduleOf(sv.config);
+    const auto svi = networks::findTrainedModel(folder, Network::SvDiffInit, preset);
+    sideViewInit = std::make_unique<networks::SideViewSynthesizer>(context, ddpm(svi), 2, 2);
+    load(Network::SvDiffInit, sideViewInit->net(), svi);
+    initSchedule = scheduleOf(svi.config);
+    modules = {&sideView->net(), &sideViewInit->net()};
+  }
   const auto gc = networks::findTrainedModel(folder, Network::GrhoCoarse, preset);
   coarse = std::make_unique<networks::DensityGenerator>(context, unet3(gc), preset);
   load(Network::GrhoCoarse, coarse->net(), gc);
@@ -64,8 +69,8 @@ MethodModels::MethodModels(Context& context, const std::filesystem::path& folder
   const auto gu = networks::findTrainedModel(folder, Network::Gu, preset);
   velocity = std::make_unique<networks::VelocityGenerator>(context, unet3(gu), preset);
   load(Network::Gu, velocity->net(), gu);
-  for (modules::Module* m : std::initializer_list<modules::Module*>{&sideView->net(), &sideViewInit->net(), &coarse->net(),
-                                                                    &fine->net(), &refiner->net(), &velocity->net()}) {
+  modules.insert(modules.end(), {&coarse->net(), &fine->net(), &refiner->net(), &velocity->net()});
+  for (modules::Module* m : modules) {
     m->setTraining(false);
     networks::freeze(*m);
   }

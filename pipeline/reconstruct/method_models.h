@@ -1,7 +1,8 @@
 // The six trained networks a reconstruction runs, loaded from a models folder (<models>/<network>/ with
 // config.json and model.safetensors, as `smokesvd train` writes them; models/<preset>/ in the project
-// ships them). Errors name the folder, the network and, for weights of another architecture, every
-// tensor that differs.
+// ships them). Without `sideViews` (a reconstruction whose side view is the mirrored front view) the two
+// SvDiff models are neither needed nor loaded. Errors name the folder, the network and, for weights of
+// another architecture, every tensor that differs.
 #pragma once
 
 #include <filesystem>
@@ -19,9 +20,9 @@
 namespace smokesvd::reconstruct {
 
 struct MethodModels {
-  MethodModels(Context& context, const std::filesystem::path& folder, const Preset& preset);
+  MethodModels(Context& context, const std::filesystem::path& folder, const Preset& preset, bool sideViews = true);
 
-  std::unique_ptr<networks::SideViewSynthesizer> sideView, sideViewInit;
+  std::unique_ptr<networks::SideViewSynthesizer> sideView, sideViewInit;  // null without side views
   std::unique_ptr<networks::DensityGenerator> coarse, fine;
   std::unique_ptr<networks::Refiner> refiner;
   std::unique_ptr<networks::VelocityGenerator> velocity;

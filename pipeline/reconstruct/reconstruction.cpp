@@ -77,7 +77,7 @@ ReconstructResult runReconstruction(Context& context, const ReconstructOptions& 
   const FrontViews views = readFrontViews(o.input, preset);
   const int frames = static_cast<int>(views.frames.size());
   const fs::path modelsFolder = o.models.empty() ? defaultModelsFolder(o.preset) : o.models;
-  MethodModels models(context, modelsFolder, preset);
+  MethodModels models(context, modelsFolder, preset, o.sideView.synthesize);
   const nlohmann::json runSignature = signature(o, models, views);
 
   RunFolder folder(o.out);
