@@ -33,7 +33,7 @@ train grho-fine --init "$MODELS/grho-coarse/model.safetensors"
 train gu $(shortened 2500)
 train nvref
 train svdiff-init
-train svdiff $(shortened 2500)
+train svdiff $(shortened 1200)
 # The shipped folder keeps what a user needs: each network's weights, config and model card, and the
 # loss curve; the logs stay beside them.
 for network in grho-coarse grho-fine gu nvref svdiff-init svdiff; do

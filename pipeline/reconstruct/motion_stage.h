@@ -20,7 +20,7 @@ namespace smokesvd::reconstruct {
 
 struct MotionOptions {
   int inflowIterations = 40;
-  double inflowLr = 0.05;
+  double inflowLr = 0.005;
   double inflowHeight = 0.25;  // inflow only in the lowest quarter of the box
   double imageWeight = 1.0;
   double smoothWeight = 1.0;

@@ -22,7 +22,7 @@ struct ReconstructArguments {
   float threshold = 0.02f, target = 0.9f;
   uint64_t seed = 0;
   int ddimSteps = 20, initSteps = 50, inflowIterations = 40, polish = 0;
-  double eta = 1.0, inflowLr = 0.05, inflowHeight = 0.25;
+  double eta = 1.0, inflowLr = 0.005, inflowHeight = 0.25;
   bool noRefine = false, noProgressive = false, noVideos = false, resume = false, overwrite = false;
 };
 
@@ -117,7 +117,7 @@ void addReconstructCommand(CLI::App& app, const GlobalOptions& global, Action& a
   c->add_flag("--no-progressive", a.noProgressive, "refine every novel view in one pass (an ablation)");
   c->add_option("--inflow-iterations", a.inflowIterations, "AdamW iterations of the inflow per frame (default 40)")
       ->check(wholeNumber(0, 100000));
-  c->add_option("--inflow-lr", a.inflowLr, "learning rate of the inflow optimisation (default 0.05)")->check(positiveNumber(1e3));
+  c->add_option("--inflow-lr", a.inflowLr, "learning rate of the inflow optimisation (default 0.005)")->check(positiveNumber(1e3));
   c->add_option("--inflow-height", a.inflowHeight, "the inflow is zero above this fraction of the box (default 0.25)")
       ->check(number(0, 1));
   c->add_option("--polish", a.polish, "N optimisation steps per frame on velocity and inflow through the renderer (default 0)")
