@@ -27,9 +27,8 @@ std::string readTextFile(const std::filesystem::path& path) {
 
 std::vector<std::byte> readFileBytes(const std::filesystem::path& path) {
   const std::string text = readTextFile(path);
-  std::vector<std::byte> bytes(text.size());
-  std::memcpy(bytes.data(), text.data(), text.size());
-  return bytes;
+  const auto* first = reinterpret_cast<const std::byte*>(text.data());
+  return std::vector<std::byte>(first, first + text.size());
 }
 
 void writeFileAtomically(const std::filesystem::path& path, const std::vector<std::byte>& bytes) {

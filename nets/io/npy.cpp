@@ -184,12 +184,13 @@ NpyArray parseNpy(std::span<const std::byte> bytes, const std::string& source) {
     throw fail(source, "shape " + toString(array.shape) + " needs " + std::to_string(expected) +
                            " data bytes but the file holds " + std::to_string(available));
   }
+  // (memcpy only with bytes to copy: an empty vector's data() may be null, which memcpy must not get.)
   if (array.dtype == DType::Float32) {
     array.floats.resize(static_cast<std::size_t>(array.numel()));
-    std::memcpy(array.floats.data(), bytes.data() + dataStart, expected);
+    if (expected > 0) std::memcpy(array.floats.data(), bytes.data() + dataStart, expected);
   } else {
     array.ints.resize(static_cast<std::size_t>(array.numel()));
-    std::memcpy(array.ints.data(), bytes.data() + dataStart, expected);
+    if (expected > 0) std::memcpy(array.ints.data(), bytes.data() + dataStart, expected);
   }
   return array;
 }
@@ -316,29 +317,64 @@ NpyArray readNpzMember(const std::filesystem::path& path, const std::string& key
 // 1980-01-01 00:00:00 UTC, the earliest time a zip entry can hold.
 constexpr time_t kFixedModificationTime = 315532800;
 
+struct ZipSourceReleaser {
+  void operator()(zip_source_t* source) const { zip_source_free(source); }
+};
+using ZipSourceHandle = std::unique_ptr<zip_source_t, ZipSourceReleaser>;
+
+// The bytes a closed in-memory archive left in its buffer source.
+std::vector<std::byte> bytesOfSource(zip_source_t* source, const std::filesystem::path& path) {
+  zip_stat_t stat;
+  zip_stat_init(&stat);
+  if (zip_source_stat(source, &stat) != 0 || !(stat.valid & ZIP_STAT_SIZE) || zip_source_open(source) != 0)
+    throw Error(path.string() + ": writing .npz failed: the archive cannot be read back from memory");
+  std::vector<std::byte> bytes(static_cast<std::size_t>(stat.size));
+  const zip_int64_t read = bytes.empty() ? 0 : zip_source_read(source, bytes.data(), bytes.size());
+  zip_source_close(source);
+  if (read != static_cast<zip_int64_t>(bytes.size()))
+    throw Error(path.string() + ": writing .npz failed: the archive cannot be read back from memory");
+  return bytes;
+}
+
+// The archive is built in memory and written with writeFileAtomically, so its only temporary file is the
+// registered "<path>.tmp" (libzip writing to a file would leave a temporary of its own on a signal).
 void writeNpz(const std::filesystem::path& path, const std::map<std::string, NpyArray>& arrays, bool compress) {
-  writeAtomically(path, [&](const std::filesystem::path& temporary) {
-    int error = 0;
-    zip_t* archive = zip_open(temporary.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &error);
-    if (!archive) throw Error(path.string() + ": cannot create .npz");
-    ZipHandle guard(archive);
-    std::vector<std::vector<std::byte>> payloads;
-    payloads.reserve(arrays.size());
-    for (const auto& [key, array] : arrays) {
-      payloads.push_back(serializeNpy(array));
-      zip_source_t* source = zip_source_buffer(archive, payloads.back().data(), payloads.back().size(), 0);
-      const zip_int64_t index = source ? zip_file_add(archive, (key + ".npy").c_str(), source, ZIP_FL_OVERWRITE) : -1;
-      if (index < 0) {
-        if (source) zip_source_free(source);
-        throw Error(path.string() + ": cannot add array '" + key + "': " + zip_strerror(archive));
-      }
-      zip_set_file_compression(archive, static_cast<zip_uint64_t>(index), compress ? ZIP_CM_DEFLATE : ZIP_CM_STORE, 1);
-      // A fixed time stamp: the same arrays give the same bytes, so reruns of a seeded scene compare equal.
-      zip_file_set_mtime(archive, static_cast<zip_uint64_t>(index), kFixedModificationTime, 0);
+  zip_error_t error;
+  zip_error_init(&error);
+  ZipSourceHandle buffer(zip_source_buffer_create(nullptr, 0, 0, &error));
+  zip_error_fini(&error);
+  if (!buffer) throw Error(path.string() + ": cannot create .npz in memory");
+  zip_source_keep(buffer.get());  // the archive releases its reference at close; ours keeps the bytes
+  zip_error_init(&error);
+  zip_t* archive = zip_open_from_source(buffer.get(), ZIP_TRUNCATE, &error);
+  const std::string openError = zip_error_strerror(&error);
+  zip_error_fini(&error);
+  if (!archive) throw Error(path.string() + ": cannot create .npz: " + openError);
+  ZipHandle guard(archive);
+  std::vector<std::vector<std::byte>> payloads;
+  payloads.reserve(arrays.size());
+  for (const auto& [key, array] : arrays) {
+    payloads.push_back(serializeNpy(array));
+    zip_source_t* source = zip_source_buffer(archive, payloads.back().data(), payloads.back().size(), 0);
+    const zip_int64_t index = source ? zip_file_add(archive, (key + ".npy").c_str(), source, ZIP_FL_OVERWRITE) : -1;
+    if (index < 0) {
+      if (source) zip_source_free(source);
+      throw Error(path.string() + ": cannot add array '" + key + "': " + zip_strerror(archive));
     }
-    if (zip_close(guard.get()) != 0) throw Error(path.string() + ": writing .npz failed: " + zip_strerror(guard.get()));
-    guard.release();
-  });
+    zip_set_file_compression(archive, static_cast<zip_uint64_t>(index), compress ? ZIP_CM_DEFLATE : ZIP_CM_STORE, 1);
+    // A fixed time stamp: the same arrays give the same bytes, so reruns of a seeded scene compare equal.
+    zip_file_set_mtime(archive, static_cast<zip_uint64_t>(index), kFixedModificationTime, 0);
+  }
+  if (zip_close(guard.get()) != 0) throw Error(path.string() + ": writing .npz failed: " + zip_strerror(guard.get()));
+  guard.release();
+  if (arrays.empty()) {
+    // libzip removes an archive of no entries; numpy writes its end-of-central-directory record alone.
+    std::vector<std::byte> endRecord(22, std::byte{0});
+    endRecord[0] = std::byte{'P'}, endRecord[1] = std::byte{'K'}, endRecord[2] = std::byte{5}, endRecord[3] = std::byte{6};
+    writeFileAtomically(path, endRecord);
+    return;
+  }
+  writeFileAtomically(path, bytesOfSource(buffer.get(), path));
 }
 
 }  // namespace smokesvd::io

@@ -274,7 +274,7 @@ std::vector<std::byte> serializeSafetensors(const std::vector<NamedArray>& tenso
   std::memcpy(out.data() + 8, text.data(), text.size());
   std::byte* data = out.data() + 8 + text.size();
   for (const NamedArray& tensor : tensors) {
-    std::memcpy(data, tensor.values.data(), tensor.values.size() * sizeof(float));
+    if (!tensor.values.empty()) std::memcpy(data, tensor.values.data(), tensor.values.size() * sizeof(float));
     data += tensor.values.size() * sizeof(float);
   }
   return out;

@@ -65,6 +65,24 @@ TEST_F(NpyTest, NpzRoundTripStoredAndDeflated) {
   }
 }
 
+// The archive is built in memory and written through "<path>.tmp" alone: nothing else is left beside it,
+// an archive of no arrays reads back empty, and a second write replaces the first.
+TEST_F(NpyTest, NpzIsWrittenThroughItsOwnTemporaryOnly) {
+  io::writeNpz(path("empty.npz"), {});
+  EXPECT_TRUE(io::readNpz(path("empty.npz")).empty());
+  io::writeNpz(path("b.npz"), {{"x", io::NpyArray::fromFloats({2}, {1, 2})}});
+  io::writeNpz(path("b.npz"), {{"y", io::NpyArray::fromFloats({1}, {3})}});
+  const auto loaded = io::readNpz(path("b.npz"));
+  ASSERT_EQ(loaded.size(), 1u);
+  EXPECT_EQ(loaded.at("y").floats, std::vector<float>{3});
+  std::size_t entries = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(path("b.npz").parent_path())) {
+    EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
+    ++entries;
+  }
+  EXPECT_EQ(entries, 2u);
+}
+
 // The same arrays written at different times give the same bytes (fixed zip time stamps), so the
 // outputs of a seeded simulation can be compared file by file.
 TEST_F(NpyTest, NpzBytesDoNotDependOnTheTime) {
