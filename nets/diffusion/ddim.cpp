@@ -11,16 +11,22 @@
 namespace smokesvd::diffusion {
 
 void DdimOptions::validate(const NoiseSchedule& schedule) const {
-  if (steps < 1 || steps > schedule.steps())
-    throw Error("DDIM: steps must be in [1, " + std::to_string(schedule.steps()) + "], got " + std::to_string(steps));
+  if (start < -1 || start >= schedule.steps())
+    throw Error("DDIM: the start step must be -1 (from pure noise) or in [0, " + std::to_string(schedule.steps() - 1) +
+                "], got " + std::to_string(start));
+  const int highest = start < 0 ? schedule.steps() : start + 1;
+  if (steps < 1 || steps > highest)
+    throw Error("DDIM: steps must be in [1, " + std::to_string(highest) + "]" +
+                (start < 0 ? "" : " for start step " + std::to_string(start)) + ", got " + std::to_string(steps));
   if (!(eta >= 0.0 && std::isfinite(eta))) throw Error("DDIM: eta must be a finite number >= 0");
   if (clipClean && !(clipMin < clipMax)) throw Error("DDIM: the clip range must have min < max");
 }
 
-std::vector<int> ddimSteps(int trainSteps, int samplingSteps) {
-  if (samplingSteps < 1 || samplingSteps > trainSteps)
-    throw Error("DDIM: sampling steps must be in [1, " + std::to_string(trainSteps) + "]");
-  const int stride = trainSteps / samplingSteps;
+std::vector<int> ddimSteps(int trainSteps, int samplingSteps, int start) {
+  const int span = start < 0 ? trainSteps : std::min(start + 1, trainSteps);
+  if (samplingSteps < 1 || samplingSteps > span)
+    throw Error("DDIM: sampling steps must be in [1, " + std::to_string(span) + "]");
+  const int stride = span / samplingSteps;
   std::vector<int> steps;
   for (int i = 0; i < samplingSteps; ++i) steps.push_back(i * stride);
   return steps;
@@ -49,10 +55,22 @@ void recordDdimStep(Stream& stream, const Tensor& x, const Tensor& eps, const Te
 }
 
 Tensor ddimSample(Context& context, Denoiser& denoiser, const NoiseSchedule& schedule, const Shape& shape,
-                  const DdimOptions& options) {
+                  const DdimOptions& options, const Tensor* start) {
   options.validate(schedule);
+  if (options.start >= 0 && options.start < schedule.steps() - 1 && !start)
+    throw Error("DDIM: a start step below " + std::to_string(schedule.steps() - 1) + " needs a start image");
+  if (start && start->shape() != shape)
+    throw Error("DDIM: the start image has shape " + toString(start->shape()) + ", the sample " + toString(shape));
+  const std::vector<int> steps = ddimSteps(schedule.steps(), options.steps, options.start);
   Gaussian gaussian(options.seed);
-  const Tensor x = Tensor::fromHost(context, shape, gaussian.values(static_cast<std::size_t>(numElements(shape))));
+  std::vector<float> initial = gaussian.values(static_cast<std::size_t>(numElements(shape)));
+  if (start) {
+    const double abar = schedule.alphaBar(steps.back());
+    const std::vector<float> image = start->download();
+    for (std::size_t i = 0; i < initial.size(); ++i)
+      initial[i] = static_cast<float>(std::sqrt(abar) * image[i] + std::sqrt(1.0 - abar) * initial[i]);
+  }
+  const Tensor x = Tensor::fromHost(context, shape, initial);
   const Tensor z(context, shape), next(context, shape), clean(context, shape), coefficients(context, {8});
   z.upload(std::vector<float>(static_cast<std::size_t>(z.numel()), 0.0f));
 
@@ -68,7 +86,6 @@ Tensor ddimSample(Context& context, Denoiser& denoiser, const NoiseSchedule& sch
     stream.copy(next, x);
   }
 
-  const std::vector<int> steps = ddimSteps(schedule.steps(), options.steps);
   for (std::size_t i = steps.size(); i-- > 0;) {
     const int t = steps[i];
     const int tNext = i == 0 ? -1 : steps[i - 1];

@@ -9,6 +9,10 @@
 // code uses. The step sequence is uniform: 0, k, 2k, ... with k = T / S (the DDIM code's "uniform"
 // skip), run from the highest step down. Everything random comes from the seed, so a seed gives the
 // same sample.
+// A start below T - 1 (SDEdit, Meng et al. 2022) samples from a given image instead of pure noise: the
+// S steps are spread over [0, start] (k = floor((start + 1) / S)) and the state begins as
+//   x = sqrt(abar_top) x_start + sqrt(1 - abar_top) z,   top = (S - 1) k, the highest step visited,
+// so only the detail the model adds below `top` replaces that of x_start.
 #pragma once
 
 #include <cstdint>
@@ -20,7 +24,8 @@
 namespace smokesvd::diffusion {
 
 struct DdimOptions {
-  int steps = 50;        // S, sampling steps (1 .. T)
+  int steps = 50;        // S, sampling steps (1 .. T, and at most start + 1)
+  int start = -1;        // the highest step the steps spread over: -1 is T - 1 (from pure noise)
   double eta = 1.0;      // >= 0
   bool clipClean = false;
   float clipMin = -1.0f, clipMax = 1.0f;
@@ -28,8 +33,9 @@ struct DdimOptions {
   void validate(const NoiseSchedule& schedule) const;  // Error naming the field
 };
 
-// The S steps the sampler visits, ascending: 0, k, 2k, ..., (S - 1) k with k = floor(T / S).
-std::vector<int> ddimSteps(int trainSteps, int samplingSteps);
+// The S steps the sampler visits, ascending: 0, k, 2k, ..., (S - 1) k with k = floor((start + 1) / S);
+// start -1 is trainSteps - 1 (k = floor(T / S)).
+std::vector<int> ddimSteps(int trainSteps, int samplingSteps, int start = -1);
 
 // What the sampler needs of a model: record the noise prediction for the state x once; before each
 // submit, set whatever depends on the step (the timestep tensor a network reads, for example).
@@ -49,8 +55,9 @@ std::vector<float> ddimCoefficients(const NoiseSchedule& schedule, int step, int
 void recordDdimStep(Stream& stream, const Tensor& x, const Tensor& eps, const Tensor& z, const Tensor& coefficients,
                     const Tensor& next, const Tensor& clean);
 
-// Draws x_T ~ N(0, I) of `shape` from the seed and runs the sampler; returns x_0.
+// Draws x_T ~ N(0, I) of `shape` from the seed (or, with `start`, noises that image of `shape` to the
+// highest step) and runs the sampler; returns x_0. A start step below T - 1 needs the image.
 Tensor ddimSample(Context& context, Denoiser& denoiser, const NoiseSchedule& schedule, const Shape& shape,
-                  const DdimOptions& options);
+                  const DdimOptions& options, const Tensor* start = nullptr);
 
 }  // namespace smokesvd::diffusion

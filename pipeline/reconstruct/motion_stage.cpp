@@ -42,9 +42,13 @@ MotionResult advanceDensity(Context& context, MethodModels& models, const FrameS
 
   const Tensor mask = Tensor::fromHost(context, preset.grid.volume(), inflowMask(preset.grid, options.inflowHeight));
   const Var inflow = variable(Tensor(context, preset.grid.volume()), true, "inflow");
+  // Frame 0's "inflow" is its whole density (the simulator's convention for the first frame), not a rate of
+  // inflow: frame 1 starts from none and is held to none, or it would add the first plume again each frame.
+  const Var previous = variable(frame == 1 ? Tensor(context, preset.grid.volume()) : state.inflow);
   {
     Stream copy(context);
-    copy.copy(state.inflow, inflow->value);
+    if (frame == 1) copy.fillZero(previous->value);
+    copy.copy(previous->value, inflow->value);
     copy.submit();
   }
   if (options.inflowIterations > 0) {
@@ -63,7 +67,7 @@ MotionResult advanceDensity(Context& context, MethodModels& models, const FrameS
         tape, fn::add(tape, fn::mseLoss(tape, estimate, variable(target)),
                       fn::scale(tape, fn::mseLoss(tape, diff::render(tape, estimate, frontView, look), variable(front.reshaped({1, 1, preset.imageHeight, preset.imageWidth}))),
                                 static_cast<float>(options.imageWeight))),
-        fn::scale(tape, fn::mseLoss(tape, masked, variable(state.inflow)), static_cast<float>(options.smoothWeight)));
+        fn::scale(tape, fn::mseLoss(tape, masked, previous), static_cast<float>(options.smoothWeight)));
     tape.backward(loss);
     clip.record(stream, parameters);
     adam.step(stream, &clip);

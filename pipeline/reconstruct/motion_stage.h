@@ -7,7 +7,8 @@
 // clamped to be non-negative. The output density is then exactly what the simulator's relation gives:
 //   rho^_t = A(rho^_t-1, u_t-1) + in_t
 // so that density[t] = A(density[t-1], velocity[t-1]) + inflow[t] holds for the written files. Frame 0
-// has no motion: its inflow is its whole density.
+// has no motion: its inflow is its whole density; frame 1 therefore starts from, and is held to, no inflow
+// (in_0 = 0 in L_s), not to that first plume.
 #pragma once
 
 #include "pipeline/physics/advection.h"

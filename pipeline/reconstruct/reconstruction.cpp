@@ -56,7 +56,7 @@ nlohmann::json signature(const ReconstructOptions& o, const MethodModels& models
           {"models", models.hashes},
           {"side_view",
            {{"synthesize", o.sideView.synthesize}, {"steps", o.sideView.steps}, {"init_steps", o.sideView.initSteps},
-            {"eta", o.sideView.eta}, {"seed", o.sideView.seed}}},
+            {"eta", o.sideView.eta}, {"start", o.sideView.start}, {"seed", o.sideView.seed}}},
           {"density", {{"refine", o.density.refine}, {"progressive", o.density.progressive}}},
           {"motion",
            {{"inflow_iterations", o.motion.inflowIterations}, {"inflow_lr", o.motion.inflowLr},

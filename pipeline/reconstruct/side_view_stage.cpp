@@ -16,6 +16,31 @@ std::vector<float> toImage(const std::vector<float>& sample) {
   return image;
 }
 
+// Each row of the [.., h, w] images reversed: the front view seen from behind, the side view's crude guess.
+std::vector<float> mirrored(std::vector<float> images, std::size_t width) {
+  for (std::size_t row = 0; row < images.size(); row += width)
+    std::reverse(images.begin() + static_cast<std::ptrdiff_t>(row), images.begin() + static_cast<std::ptrdiff_t>(row + width));
+  return images;
+}
+
+// The SDEdit start of a sample: mirrored front views in the diffusion range, x = 2 w - 1.
+Tensor mirroredStart(Context& context, const Shape& shape, const std::vector<float>& fronts) {
+  std::vector<float> start = mirrored(fronts, static_cast<std::size_t>(shape[3]));
+  for (float& v : start) v = 2.0f * v - 1.0f;
+  return Tensor::fromHost(context, shape, start);
+}
+
+// DDIM with the stage's options: at most `steps` steps, and no more than the start step allows.
+diffusion::DdimOptions ddimOptions(const SideViewOptions& options, int steps, const diffusion::NoiseSchedule& schedule,
+                                   int frame) {
+  diffusion::DdimOptions ddim;
+  ddim.eta = options.eta;
+  ddim.seed = options.seed + static_cast<uint64_t>(frame);
+  ddim.start = options.start >= schedule.steps() - 1 ? -1 : options.start;
+  ddim.steps = std::min(steps, ddim.start < 0 ? schedule.steps() : ddim.start + 1);
+  return ddim;
+}
+
 Tensor concatenated(Context& context, const std::vector<Tensor>& parts) {
   Stream stream(context);
   Tape tape(stream);
@@ -32,13 +57,8 @@ Tensor concatenated(Context& context, const std::vector<Tensor>& parts) {
 Tensor sideView(Context& context, MethodModels& models, FrameState& state, int frame, const Tensor& front,
                 const Tensor& nextFront, const SideViewOptions& options) {
   const Shape image = front.shape();
-  if (!options.synthesize) {
-    std::vector<float> mirrored = front.download();
-    const auto width = static_cast<std::size_t>(image[3]);
-    for (std::size_t row = 0; row < mirrored.size(); row += width)
-      std::reverse(mirrored.begin() + static_cast<std::ptrdiff_t>(row), mirrored.begin() + static_cast<std::ptrdiff_t>(row + width));
-    return Tensor::fromHost(context, image, mirrored);
-  }
+  const auto width = static_cast<std::size_t>(image[3]);
+  if (!options.synthesize) return Tensor::fromHost(context, image, mirrored(front.download(), width));
   if (frame == 1) {
     Tensor side(context, image);
     Stream copy(context);
@@ -46,22 +66,27 @@ Tensor sideView(Context& context, MethodModels& models, FrameState& state, int f
     copy.submit();
     return side;
   }
-  diffusion::DdimOptions ddim;
-  ddim.eta = options.eta;
-  ddim.seed = options.seed + static_cast<uint64_t>(frame);
   if (frame == 0) {
-    ddim.steps = std::min(options.initSteps, models.initSchedule.steps());
+    const diffusion::DdimOptions ddim = ddimOptions(options, options.initSteps, models.initSchedule, frame);
+    const Shape both{1, 2, image[2], image[3]};
+    std::vector<float> fronts = front.download();
+    const std::vector<float> next = nextFront.download();
+    fronts.insert(fronts.end(), next.begin(), next.end());
+    const Tensor start = mirroredStart(context, both, fronts);
     networks::SideViewDenoiser denoiser(*models.sideViewInit, variable(concatenated(context, {front, nextFront})));
-    const std::vector<float> both = toImage(
-        diffusion::ddimSample(context, denoiser, models.initSchedule, {1, 2, image[2], image[3]}, ddim).download());
-    const auto half = both.size() / 2;
-    state.pendingSide.upload(std::vector<float>(both.begin() + static_cast<std::ptrdiff_t>(half), both.end()));
-    return Tensor::fromHost(context, image, std::vector<float>(both.begin(), both.begin() + static_cast<std::ptrdiff_t>(half)));
+    const std::vector<float> sides = toImage(
+        diffusion::ddimSample(context, denoiser, models.initSchedule, both, ddim, ddim.start < 0 ? nullptr : &start).download());
+    const auto half = sides.size() / 2;
+    state.pendingSide.upload(std::vector<float>(sides.begin() + static_cast<std::ptrdiff_t>(half), sides.end()));
+    return Tensor::fromHost(context, image, std::vector<float>(sides.begin(), sides.begin() + static_cast<std::ptrdiff_t>(half)));
   }
-  ddim.steps = std::min(options.steps, models.schedule.steps());
+  const diffusion::DdimOptions ddim = ddimOptions(options, options.steps, models.schedule, frame);
+  const Tensor start = mirroredStart(context, image, front.download());
   networks::SideViewDenoiser denoiser(
       *models.sideView, variable(concatenated(context, {front, state.side1, state.sideRender1, state.side2, state.sideRender2})));
-  return Tensor::fromHost(context, image, toImage(diffusion::ddimSample(context, denoiser, models.schedule, image, ddim).download()));
+  return Tensor::fromHost(
+      context, image,
+      toImage(diffusion::ddimSample(context, denoiser, models.schedule, image, ddim, ddim.start < 0 ? nullptr : &start).download()));
 }
 
 }  // namespace smokesvd::reconstruct

@@ -21,7 +21,7 @@ struct ReconstructArguments {
   std::string preset = "small";
   float threshold = 0.02f, target = 0.9f;
   uint64_t seed = 0;
-  int ddimSteps = 20, initSteps = 50, inflowIterations = 40, polish = 0;
+  int ddimSteps = 20, initSteps = 50, sideViewStart = reconstruct::SideViewOptions{}.start, inflowIterations = 40, polish = 0;
   double eta = 1.0, inflowLr = 0.005, inflowHeight = 0.25;
   bool noRefine = false, noProgressive = false, noVideos = false, resume = false, overwrite = false;
 };
@@ -78,6 +78,7 @@ void runReconstruct(const GlobalOptions& global, const ReconstructArguments& a) 
   o.sideView.steps = a.ddimSteps;
   o.sideView.initSteps = a.initSteps;
   o.sideView.eta = a.eta;
+  o.sideView.start = a.sideViewStart;
   o.sideView.seed = a.seed;
   o.density.refine = !a.noRefine;
   o.density.progressive = !a.noProgressive;
@@ -113,6 +114,10 @@ void addReconstructCommand(CLI::App& app, const GlobalOptions& global, Action& a
   c->add_option("--ddim-steps", a.ddimSteps, "DDIM steps per side view (default 20)")->check(wholeNumber(1, 10000));
   c->add_option("--init-steps", a.initSteps, "DDIM steps for frames 0 and 1 (default 50)")->check(wholeNumber(1, 10000));
   c->add_option("--eta", a.eta, "DDIM eta: 0 deterministic, 1 ancestral (default 1)")->check(number(0, 100));
+  c->add_option("--side-view-start", a.sideViewStart,
+                "DDIM start step: -1 samples from pure noise (the paper), lower from the mirrored front view noised to "
+                "that step (default " + std::to_string(a.sideViewStart) + "; docs/reconstruction.md)")
+      ->check(wholeNumber(-1, 100000));
   c->add_flag("--no-refine", a.noRefine, "skip the novel-view refinement (the coarse density; an ablation)");
   c->add_flag("--no-progressive", a.noProgressive, "refine every novel view in one pass (an ablation)");
   c->add_option("--inflow-iterations", a.inflowIterations, "AdamW iterations of the inflow per frame (default 40)")

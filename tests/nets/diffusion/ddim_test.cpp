@@ -53,6 +53,13 @@ class NetworkDenoiser : public diffusion::Denoiser {
   Var t_;
 };
 
+// Predicts no noise at all: every clean estimate is x_t / sqrt(abar_t).
+class ZeroDenoiser : public diffusion::Denoiser {
+ public:
+  Var predictNoise(Tape& tape, const Var& x) override { return fn::scale(tape, x, 0.0f); }
+  void setStep(int) override {}
+};
+
 class DdimTest : public GpuTest {};
 
 TEST(NoiseScheduleTest, LinearScheduleMatchesItsDefinition) {
@@ -80,6 +87,13 @@ TEST(NoiseScheduleTest, UniformDdimStepsFollowTheReferenceStride) {
   EXPECT_EQ(diffusion::ddimSteps(1000, 400).back(), 798);  // stride 2: the released code's 400-step call
   EXPECT_THROW(diffusion::ddimSteps(1000, 0), Error);
   EXPECT_THROW(diffusion::ddimSteps(1000, 1001), Error);
+  // From a start step the steps spread over [0, start]: stride floor(401 / 20) = 20.
+  const std::vector<int> fromStart = diffusion::ddimSteps(1000, 20, 400);
+  ASSERT_EQ(fromStart.size(), 20u);
+  EXPECT_EQ(fromStart[1], 20);
+  EXPECT_EQ(fromStart.back(), 380);
+  EXPECT_EQ(diffusion::ddimSteps(1000, 20, 999), diffusion::ddimSteps(1000, 20));
+  EXPECT_THROW(diffusion::ddimSteps(1000, 402, 400), Error);
 }
 
 TEST(NoiseScheduleTest, CleanEstimateInvertsTheForwardProcess) {
@@ -155,6 +169,43 @@ TEST_F(DdimTest, ReproducesTheCleanImageOfAKnownNoiseModelAtAnyEta) {
       EXPECT_TRUE(allClose(sample, target, {1e-4, 1e-4})) << "eta " << eta << ", " << steps << " steps";
     }
   }
+}
+
+// From a start image (SDEdit): the state begins as sqrt(abar_top) x_start + sqrt(1 - abar_top) z with z the
+// seed's first draw. With no noise predicted and eta 0 every step keeps x / sqrt(abar_top), so the sample
+// is x_start + sqrt((1 - abar_top) / abar_top) z exactly; the known-noise model still ends on its image.
+TEST_F(DdimTest, StartsFromAnImageNoisedToTheHighestStep) {
+  const NoiseSchedule schedule = NoiseSchedule::linear();
+  const Shape shape{1, 2, 5, 7};
+  std::vector<float> image, target;
+  const Tensor start = randomTensor(context(), shape, 21, -1, 1, &image);
+  const Tensor targetTensor = randomTensor(context(), shape, 22, -0.9f, 0.9f, &target);
+  diffusion::DdimOptions options;
+  options.steps = 2;  // steps 0 and 200 of [0, 400]
+  options.start = 400;
+  options.eta = 0;
+  options.seed = 9;
+  ZeroDenoiser zero;
+  const Tensor sample = diffusion::ddimSample(context(), zero, schedule, shape, options, &start);
+  const double abar = schedule.alphaBar(200);
+  const std::vector<float> z = diffusion::Gaussian(9).values(image.size());
+  std::vector<double> expected;
+  for (std::size_t i = 0; i < image.size(); ++i) expected.push_back(image[i] + std::sqrt((1 - abar) / abar) * z[i]);
+  EXPECT_TRUE(allClose(sample, expected, {1e-4, 1e-4}));
+
+  for (const double eta : {0.0, 1.0}) {
+    PointDenoiser denoiser(context(), schedule, targetTensor);
+    options.steps = 20;
+    options.eta = eta;
+    EXPECT_TRUE(allClose(diffusion::ddimSample(context(), denoiser, schedule, shape, options, &start), target, {1e-4, 1e-4}))
+        << "eta " << eta;
+    EXPECT_EQ(denoiser.calls, 20);
+  }
+  options.steps = 402;
+  EXPECT_THROW(diffusion::ddimSample(context(), zero, schedule, shape, options, &start), Error);
+  options.steps = 20;
+  EXPECT_THROW(diffusion::ddimSample(context(), zero, schedule, shape, options), Error);  // no start image
+  EXPECT_THROW(diffusion::ddimSample(context(), zero, schedule, {1, 1, 5, 7}, options, &start), Error);
 }
 
 TEST_F(DdimTest, SamplingIsDeterministicForASeed) {
