@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -35,5 +36,7 @@ CommandResult runSmokesvd(const std::string& arguments, const std::string& envir
   result.err = slurp(err);
   return result;
 }
+
+int countLines(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
 
 }  // namespace smokesvd::testing

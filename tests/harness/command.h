@@ -15,4 +15,7 @@ struct CommandResult {
 // is prefixed to the shell command.
 CommandResult runSmokesvd(const std::string& arguments, const std::string& environment = "");
 
+// The number of '\n' in `text`: a one-line error is countLines(err) == 1.
+int countLines(const std::string& text);
+
 }  // namespace smokesvd::testing

@@ -6,6 +6,7 @@
 #include "pipeline/sim/outputs.h"
 #include "pipeline/sim/run.h"
 #include "pipeline/sim/scene.h"
+#include "tests/harness/gpu_test.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -63,6 +64,17 @@ void writeSimulatedReconstruction(Context& context, const fs::path& folder, int 
                                                         {"frames", frames},
                                                         {"signature", {{"framing", "box"}, {"source", {{"frame_rate", 24}}}}}}
                                             .dump(2);
+}
+
+SimulatedReconstructionScratch::SimulatedReconstructionScratch(const std::string& purpose, int frames)
+    : root_(purpose), frames_(frames), reconstruction_(root_ / "recon") {}
+
+const fs::path& SimulatedReconstructionScratch::reconstruction() {
+  if (!written_) {
+    writeSimulatedReconstruction(testContext(), reconstruction_, frames_);
+    written_ = true;
+  }
+  return reconstruction_;
 }
 
 }  // namespace smokesvd::testing

@@ -8,13 +8,31 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 #include "runtime/context.h"
 #include "runtime/geometry.h"
+#include "tests/harness/temp_dir.h"
 
 namespace smokesvd::testing {
 
 void writeSimulatedReconstruction(Context& context, const std::filesystem::path& folder, int frames,
                                   const GridSize& grid = {.x = 16, .y = 28, .z = 16});
+
+// The scratch folder of a test program that reads one such reconstruction: a TempDir named after
+// `purpose`, with the reconstruction of `frames` frames in its "recon" subfolder, written (on the shared
+// test context) the first time reconstruction() is asked for.
+class SimulatedReconstructionScratch {
+ public:
+  SimulatedReconstructionScratch(const std::string& purpose, int frames);
+  const TempDir& root() const { return root_; }
+  const std::filesystem::path& reconstruction();
+
+ private:
+  TempDir root_;
+  int frames_;
+  bool written_ = false;
+  std::filesystem::path reconstruction_;
+};
 
 }  // namespace smokesvd::testing

@@ -27,8 +27,6 @@ struct BadInput {
   std::string environment = "";
 };
 
-int countLines(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
-
 void expectOneLineError(const BadInput& c) {
   const auto start = std::chrono::steady_clock::now();
   const CommandResult result = runSmokesvd(c.arguments, c.environment);

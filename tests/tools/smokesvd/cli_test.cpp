@@ -7,12 +7,6 @@
 namespace smokesvd::testing {
 namespace {
 
-int countLines(const std::string& text) {
-  int lines = 0;
-  for (char c : text) lines += c == '\n';
-  return lines;
-}
-
 TEST(Cli, InfoListsTheChosenDevice) {
   const CommandResult result = runSmokesvd("info");
   ASSERT_EQ(result.exitCode, 0) << result.err;

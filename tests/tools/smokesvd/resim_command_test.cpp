@@ -18,21 +18,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const TempDir& root() {
-  static const TempDir folder("resim-cli");
+SimulatedReconstructionScratch& scratch() {
+  static SimulatedReconstructionScratch folder("resim-cli", 4);
   return folder;
 }
-
-const fs::path& reconstruction() {
-  static const fs::path folder = [] {
-    const fs::path path = root() / "recon";
-    writeSimulatedReconstruction(testContext(), path, 4);
-    return path;
-  }();
-  return folder;
-}
-
-int countLines(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
+const TempDir& root() { return scratch().root(); }
+const fs::path& reconstruction() { return scratch().reconstruction(); }
 
 class ResimCli : public GpuTest {};
 

@@ -23,8 +23,6 @@ fs::path scratchDirectory(const std::string& name) {
   return path;
 }
 
-int countLines(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
-
 // A two-frame scene file of 8 x 12 x 8 cells; returns its path.
 std::string writeTinyScene(const fs::path& path) {
   std::ofstream(path) << R"({"resolution": [8, 12, 8], "frames": 2, "render": {"views": 2}})";
