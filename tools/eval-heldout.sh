@@ -8,7 +8,9 @@
 #   tools/eval-heldout.sh OUT_DIR [SCENE_DIR...]
 #       defaults: scenes 0009, 0019, 0029 of data/small (held out: every 10th scene), frames 0:FRAMES
 #   environment: SMOKESVD (default build/smokesvd), MODELS (default: the shipped models/small),
-#                FRAMES (default 24), VARIANTS (default: all below)
+#                FRAMES (default 24), VARIANTS (default: all below but no-multi-frame),
+#                NO_MULTI_FRAME_MODELS: for the no-multi-frame variant, a models folder whose svdiff was
+#                trained with options.multi_frame = false (docs/evaluation.md says how)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SMOKESVD=${SMOKESVD:-build/smokesvd}
@@ -26,6 +28,7 @@ declare -A FLAGS=(
   [no-progressive]="--no-progressive"
   [mirror-side]="--side-view mirror"
   [polish-20]="--polish 20"
+  [no-multi-frame]="--models ${NO_MULTI_FRAME_MODELS:-}"
 )
 VARIANTS=(${VARIANTS:-full no-refinement no-progressive mirror-side polish-20})
 
@@ -42,39 +45,47 @@ for scene in "${SCENES[@]}"; do
   fi
   for variant in "${VARIANTS[@]}"; do
     recon="$OUT/$name/$variant"
+    models=("${MODELS_FLAG[@]}")
+    if [ "$variant" = no-multi-frame ]; then
+      [ -n "${NO_MULTI_FRAME_MODELS:-}" ] || { echo "no-multi-frame: set NO_MULTI_FRAME_MODELS" >&2; exit 2; }
+      models=()
+    fi
     # shellcheck disable=SC2086
     [ -f "$recon/run.json" ] && grep -q '"complete": true' "$recon/run.json" ||
       "$SMOKESVD" reconstruct "$front" --out "$recon" --framing box --intensity none --resume \
-        "${MODELS_FLAG[@]}" ${FLAGS[$variant]} --no-videos
+        "${models[@]}" ${FLAGS[$variant]} --no-videos
     [ -f "$OUT/$name/eval-$variant/metrics.json" ] ||
       "$SMOKESVD" eval "$recon" --truth "$scene" --out "$OUT/$name/eval-$variant" --quiet
   done
 done
 
 python3 - "$OUT" "${VARIANTS[@]}" <<'EOF'
-import json, sys, glob, os
-out, variants = sys.argv[1], sys.argv[2:]
-def group(m, name):
-    return m["image"][name]
-print("| variant | input PSNR / SSIM | side PSNR / SSIM | novel PSNR / SSIM | density RMSE | scenes |")
-print("|---|---|---|---|---|---|")
+import json,glob,sys,os
+out=sys.argv[1]; variants=sys.argv[2:]
+print("| variant | input PSNR / SSIM | side PSNR / SSIM | novel PSNR / SSIM | density RMSE | velocity RMSE | side warp error ×10⁴ | side flow mean / std |")
+print("|---|---|---|---|---|---|---|---|")
+def mean(ms,f): return sum(f(m) for m in ms)/len(ms)
 for v in variants:
-    files = sorted(glob.glob(os.path.join(out, "*", "eval-" + v, "metrics.json")))
+    files=sorted(glob.glob(os.path.join(out,'*','eval-'+v,'metrics.json')))
     if not files: continue
-    ms = [json.load(open(f)) for f in files]
-    def mean(f): return sum(f(m) for m in ms) / len(ms)
-    cells = []
-    for g in ("input", "side", "novel"):
-        cells.append("%.2f / %.3f" % (mean(lambda m: group(m, g)["psnr"]["ours"]), mean(lambda m: group(m, g)["ssim"]["ours"])))
-    rmse = mean(lambda m: m["volume"]["density_rmse"]["ours"])
-    print("| %s | %s | %.4f | %d |" % (v, " | ".join(cells), rmse, len(ms)))
-m = [json.load(open(f)) for f in sorted(glob.glob(os.path.join(out, "*", "eval-" + variants[0], "metrics.json")))]
-if m:
-    for floor in ("floor_black", "floor_input"):
-        cells = []
-        for g in ("input", "side", "novel"):
-            vals = [group(x, g)["psnr"].get(floor) for x in m]
-            ss = [group(x, g)["ssim"].get(floor) for x in m]
-            cells.append("-" if None in vals else "%.2f / %.3f" % (sum(vals) / len(vals), sum(ss) / len(ss)))
-        print("| %s | %s | | %d |" % (floor, " | ".join(cells), len(m)))
+    ms=[json.load(open(f)) for f in files]
+    cells=["%.2f / %.3f"%(mean(ms,lambda m:m['image'][g]['psnr']['ours']),mean(ms,lambda m:m['image'][g]['ssim']['ours'])) for g in ('input','side','novel')]
+    cells.append("%.4f"%mean(ms,lambda m:m['volume']['density_rmse']['ours']))
+    cells.append("%.4f"%mean(ms,lambda m:m['volume']['velocity_rmse']['ours']))
+    cells.append("%.2f"%(1e4*mean(ms,lambda m:m['temporal']['side']['warp_error']['ours'])))
+    cells.append("%.3f / %.3f"%(mean(ms,lambda m:m['temporal']['side']['flow_mean']['ours']),mean(ms,lambda m:m['temporal']['side']['flow_std']['ours'])))
+    print("| %s (%d scenes) | %s |"%(v,len(ms)," | ".join(cells)))
+ms=[json.load(open(f)) for f in sorted(glob.glob(os.path.join(out,'*','eval-'+variants[0],'metrics.json')))]
+for floor,label,vol in (('floor_black','all-black image; all-zero volume','floor_zero'),('floor_input','input view as the view (mirrored from 90°)',None)):
+    cells=[]
+    for g in ('input','side','novel'):
+        if ms[0]['image'][g]['psnr'].get(floor) is None: cells.append('–'); continue
+        cells.append("%.2f / %.3f"%(mean(ms,lambda m:m['image'][g]['psnr'][floor]),mean(ms,lambda m:m['image'][g]['ssim'][floor])))
+    cells.append("%.4f"%mean(ms,lambda m:m['volume']['density_rmse'][vol]) if vol else '')
+    cells.append("%.4f"%mean(ms,lambda m:m['volume']['velocity_rmse'][vol]) if vol else '')
+    cells.append("%.2f"%(1e4*mean(ms,lambda m:m['temporal']['side']['warp_error'][floor])))
+    cells.append("%.3f / %.3f"%(mean(ms,lambda m:m['temporal']['side']['flow_mean'][floor]),mean(ms,lambda m:m['temporal']['side']['flow_std'][floor])))
+    print("| floor: %s | %s |"%(label," | ".join(cells)))
+cells=['–','–','–','','', "%.2f"%(1e4*mean(ms,lambda m:m['temporal']['side']['warp_error']['reference'])), "%.3f / %.3f"%(mean(ms,lambda m:m['temporal']['side']['flow_mean']['reference']),mean(ms,lambda m:m['temporal']['side']['flow_std']['reference']))]
+print("| the truth itself (its own temporal figures) | %s |"%" | ".join(cells))
 EOF
