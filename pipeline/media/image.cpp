@@ -171,4 +171,13 @@ Image resize(const Image& image, int width, int height) {
   return out;
 }
 
+std::vector<float> mirroredRows(std::vector<float> values, int width) {
+  const auto w = static_cast<std::size_t>(width);
+  if (width <= 0 || values.size() % w != 0)
+    throw Error("mirror: " + std::to_string(values.size()) + " values are not rows of width " + std::to_string(width));
+  for (std::size_t row = 0; row < values.size(); row += w)
+    std::reverse(values.begin() + static_cast<std::ptrdiff_t>(row), values.begin() + static_cast<std::ptrdiff_t>(row + w));
+  return values;
+}
+
 }  // namespace smokesvd::media

@@ -33,5 +33,7 @@ void writePng(const std::filesystem::path& path, const Image& image, int bitDept
 Image toRgb(const Image& gray);
 // Bilinear resize of a gray or RGB image.
 Image resize(const Image& image, int width, int height);
+// Gray images (row-major, `width` values a row, any number of rows) mirrored left to right: each row reversed.
+std::vector<float> mirroredRows(std::vector<float> values, int width);
 
 }  // namespace smokesvd::media

@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "pipeline/differentiable/render.h"
+#include "pipeline/media/image.h"
 #include "pipeline/networks/view_slots.h"
 #include "pipeline/render/render_images.h"
 #include "pipeline/train/view_losses.h"
@@ -77,9 +78,7 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
       stream.copy(render->value, state.sideRender1);
       stream.submit();
       const std::vector<float> synthesized = side.download();
-      std::vector<float> mirror = fronts[static_cast<std::size_t>(t)].values;
-      for (int r = 0; r < preset.imageHeight; ++r)
-        std::reverse(mirror.begin() + r * preset.imageWidth, mirror.begin() + (r + 1) * preset.imageWidth);
+      const std::vector<float> mirror = media::mirroredRows(fronts[static_cast<std::size_t>(t)].values, preset.imageWidth);
       result.psnr[static_cast<std::size_t>(t)] += train::psnr(synthesized, sides[static_cast<std::size_t>(t)].values);
       result.mirrored[static_cast<std::size_t>(t)] += train::psnr(mirror, sides[static_cast<std::size_t>(t)].values);
     }

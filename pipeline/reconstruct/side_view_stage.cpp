@@ -4,6 +4,7 @@
 
 #include "nets/functional/activation.h"
 #include "nets/functional/concat.h"
+#include "pipeline/media/image.h"
 #include "runtime/stream.h"
 
 namespace smokesvd::reconstruct {
@@ -16,16 +17,9 @@ std::vector<float> toImage(const std::vector<float>& sample) {
   return image;
 }
 
-// Each row of the [.., h, w] images reversed: the front view seen from behind, the side view's crude guess.
-std::vector<float> mirrored(std::vector<float> images, std::size_t width) {
-  for (std::size_t row = 0; row < images.size(); row += width)
-    std::reverse(images.begin() + static_cast<std::ptrdiff_t>(row), images.begin() + static_cast<std::ptrdiff_t>(row + width));
-  return images;
-}
-
 // The SDEdit start of a sample: mirrored front views in the diffusion range, x = 2 w - 1.
 Tensor mirroredStart(Context& context, const Shape& shape, const std::vector<float>& fronts) {
-  std::vector<float> start = mirrored(fronts, static_cast<std::size_t>(shape[3]));
+  std::vector<float> start = media::mirroredRows(fronts, static_cast<int>(shape[3]));
   for (float& v : start) v = 2.0f * v - 1.0f;
   return Tensor::fromHost(context, shape, start);
 }
@@ -57,8 +51,7 @@ Tensor concatenated(Context& context, const std::vector<Tensor>& parts) {
 Tensor sideView(Context& context, MethodModels& models, FrameState& state, int frame, const Tensor& front,
                 const Tensor& nextFront, const SideViewOptions& options) {
   const Shape image = front.shape();
-  const auto width = static_cast<std::size_t>(image[3]);
-  if (!options.synthesize) return Tensor::fromHost(context, image, mirrored(front.download(), width));
+  if (!options.synthesize) return Tensor::fromHost(context, image, media::mirroredRows(front.download(), static_cast<int>(image[3])));
   if (frame == 1) {
     Tensor side(context, image);
     Stream copy(context);

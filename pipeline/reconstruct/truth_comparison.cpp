@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "nets/io/npy.h"
+#include "pipeline/media/image.h"
 #include "pipeline/networks/view_slots.h"
 #include "pipeline/preset.h"
 #include "pipeline/render/render_images.h"
@@ -21,13 +22,6 @@ std::vector<float> density(const fs::path& run, int frame, const Shape& expected
   if (a.shape != expected)
     throw Error(path.string() + ": density of shape " + toString(a.shape) + ", expected " + toString(expected));
   return a.toFloat();
-}
-
-std::vector<float> mirrored(const media::Image& image) {
-  std::vector<float> v = image.values;
-  for (int r = 0; r < image.height; ++r)
-    std::reverse(v.begin() + r * image.width, v.begin() + (r + 1) * image.width);
-  return v;
 }
 
 }  // namespace
@@ -63,7 +57,7 @@ TruthComparison compareWithTruth(Context& context, const fs::path& reconstructio
     c.sidePsnr += train::psnr(r[1].values, s[1].values);
     c.blackInput += train::psnr(black, s[0].values);
     c.blackSide += train::psnr(black, s[1].values);
-    c.frontAsSide += train::psnr(mirrored(s[0]), s[1].values);
+    c.frontAsSide += train::psnr(media::mirroredRows(s[0].values, s[0].width), s[1].values);
     for (std::size_t v = 2; v < angles.size(); ++v) {
       c.novelPsnr += train::psnr(r[v].values, s[v].values) / 4;
       c.blackNovel += train::psnr(black, s[v].values) / 4;

@@ -39,6 +39,13 @@ std::string errorOf(const std::function<void()>& f) {
   return "";
 }
 
+// The left-right mirror of the side-view baseline: every row reversed, rows kept in order.
+TEST(MirroredRows, ReversesEachRowAndRefusesARaggedImage) {
+  EXPECT_EQ(media::mirroredRows({1, 2, 3, 4, 5, 6}, 3), (std::vector<float>{3, 2, 1, 6, 5, 4}));
+  EXPECT_EQ(media::mirroredRows({}, 2), std::vector<float>{});
+  EXPECT_THROW(media::mirroredRows({1, 2, 3}, 2), Error);
+}
+
 TEST_F(ImageIoTest, PngRoundTripsAt8And16Bits) {
   const media::Image image = ramp(13, 7);
   for (int bits : {8, 16}) {
