@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "pipeline/media/image.h"
 #include "runtime/error.h"
 
 namespace smokesvd::dataset {
@@ -9,9 +10,7 @@ namespace smokesvd::dataset {
 void mirrorCellsX(std::vector<float>& values, const GridSize& g) {
   if (g.x <= 0 || values.size() % static_cast<std::size_t>(g.x) != 0)
     throw Error("mirror: values are not rows of the volume's width");
-  for (std::size_t row = 0; row < values.size(); row += static_cast<std::size_t>(g.x))
-    std::reverse(values.begin() + static_cast<std::ptrdiff_t>(row),
-                 values.begin() + static_cast<std::ptrdiff_t>(row + static_cast<std::size_t>(g.x)));
+  values = media::mirroredRows(std::move(values), static_cast<int>(g.x));  // grids are bounded far below 2^31
 }
 
 void mirrorMacVelocityX(std::vector<float>& velocity, const GridSize& g) {

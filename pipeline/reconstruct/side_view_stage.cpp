@@ -17,13 +17,6 @@ std::vector<float> toImage(const std::vector<float>& sample) {
   return image;
 }
 
-// The SDEdit start of a sample: mirrored front views in the diffusion range, x = 2 w - 1.
-Tensor mirroredStart(Context& context, const Shape& shape, const std::vector<float>& fronts) {
-  std::vector<float> start = media::mirroredRows(fronts, static_cast<int>(shape[3]));
-  for (float& v : start) v = 2.0f * v - 1.0f;
-  return Tensor::fromHost(context, shape, start);
-}
-
 // DDIM with the stage's options: at most `steps` steps, and no more than the start step allows.
 diffusion::DdimOptions ddimOptions(const SideViewOptions& options, int steps, const diffusion::NoiseSchedule& schedule,
                                    int frame) {
@@ -46,6 +39,17 @@ Tensor concatenated(Context& context, const std::vector<Tensor>& parts) {
   return out->value;
 }
 
+// A side-view sample of `shape` as [0, 1] images; with a start step, DDIM begins from the mirrored front
+// views `fronts` (one image per sample channel) in the diffusion range, x = 2 w - 1.
+std::vector<float> sample(Context& context, diffusion::Denoiser& denoiser, const diffusion::NoiseSchedule& schedule,
+                          const Shape& shape, const diffusion::DdimOptions& ddim, const std::vector<float>& fronts) {
+  if (ddim.start < 0) return toImage(diffusion::ddimSample(context, denoiser, schedule, shape, ddim).download());
+  std::vector<float> start = media::mirroredRows(fronts, static_cast<int>(shape[3]));
+  for (float& v : start) v = 2.0f * v - 1.0f;
+  const Tensor startTensor = Tensor::fromHost(context, shape, start);
+  return toImage(diffusion::ddimSample(context, denoiser, schedule, shape, ddim, &startTensor).download());
+}
+
 }  // namespace
 
 Tensor sideView(Context& context, MethodModels& models, FrameState& state, int frame, const Tensor& front,
@@ -65,21 +69,16 @@ Tensor sideView(Context& context, MethodModels& models, FrameState& state, int f
     std::vector<float> fronts = front.download();
     const std::vector<float> next = nextFront.download();
     fronts.insert(fronts.end(), next.begin(), next.end());
-    const Tensor start = mirroredStart(context, both, fronts);
     networks::SideViewDenoiser denoiser(*models.sideViewInit, variable(concatenated(context, {front, nextFront})));
-    const std::vector<float> sides = toImage(
-        diffusion::ddimSample(context, denoiser, models.initSchedule, both, ddim, ddim.start < 0 ? nullptr : &start).download());
+    const std::vector<float> sides = sample(context, denoiser, models.initSchedule, both, ddim, fronts);
     const auto half = sides.size() / 2;
     state.pendingSide.upload(std::vector<float>(sides.begin() + static_cast<std::ptrdiff_t>(half), sides.end()));
     return Tensor::fromHost(context, image, std::vector<float>(sides.begin(), sides.begin() + static_cast<std::ptrdiff_t>(half)));
   }
   const diffusion::DdimOptions ddim = ddimOptions(options, options.steps, models.schedule, frame);
-  const Tensor start = mirroredStart(context, image, front.download());
   networks::SideViewDenoiser denoiser(
       *models.sideView, variable(concatenated(context, {front, state.side1, state.sideRender1, state.side2, state.sideRender2})));
-  return Tensor::fromHost(
-      context, image,
-      toImage(diffusion::ddimSample(context, denoiser, models.schedule, image, ddim, ddim.start < 0 ? nullptr : &start).download()));
+  return Tensor::fromHost(context, image, sample(context, denoiser, models.schedule, image, ddim, front.download()));
 }
 
 }  // namespace smokesvd::reconstruct

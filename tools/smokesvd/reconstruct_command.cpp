@@ -12,6 +12,7 @@
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
 #include "tools/smokesvd/option_checks.h"
+#include "tools/smokesvd/side_view_flags.h"
 
 namespace smokesvd::cli {
 namespace {
@@ -20,9 +21,9 @@ struct ReconstructArguments {
   std::string input, out, models, frames, camera, framing, intensity = "auto", background = "level", sideView = "synthesize";
   std::string preset = "small";
   float threshold = 0.02f, target = 0.9f;
-  uint64_t seed = 0;
-  int ddimSteps = 20, initSteps = 50, sideViewStart = reconstruct::SideViewOptions{}.start, inflowIterations = 40, polish = 0;
-  double eta = 1.0, inflowLr = 0.005, inflowHeight = 0.25;
+  reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start
+  int inflowIterations = 40, polish = 0;
+  double inflowLr = 0.005, inflowHeight = 0.25;
   bool noRefine = false, noProgressive = false, noVideos = false, resume = false, overwrite = false;
 };
 
@@ -74,12 +75,8 @@ void runReconstruct(const GlobalOptions& global, const ReconstructArguments& a) 
   o.overwrite = a.overwrite;
   o.videos = !a.noVideos;
   if (a.sideView != "synthesize" && a.sideView != "mirror") throw Error("--side-view: expected synthesize or mirror");
+  o.sideView = a.sampling;
   o.sideView.synthesize = a.sideView == "synthesize";
-  o.sideView.steps = a.ddimSteps;
-  o.sideView.initSteps = a.initSteps;
-  o.sideView.eta = a.eta;
-  o.sideView.start = a.sideViewStart;
-  o.sideView.seed = a.seed;
   o.density.refine = !a.noRefine;
   o.density.progressive = !a.noProgressive;
   o.motion.inflowIterations = a.inflowIterations;
@@ -109,15 +106,8 @@ void addReconstructCommand(CLI::App& app, const GlobalOptions& global, Action& a
   c->add_option("--background", a.background, "level (default: one black level) or first (frame 0 per pixel)");
   c->add_option("--threshold", a.threshold, "noise floor after normalisation (default 0.02)")->check(number(0, 1));
   c->add_option("--target", a.target, "the level the footage's 99.9th percentile maps to (default 0.9)")->check(positiveNumber(1e6));
-  c->add_option("--seed", a.seed, "seed of the side-view sampling")->check(wholeNumber(0, INT64_MAX));
   c->add_option("--side-view", a.sideView, "synthesize (SvDiff, default) or mirror (the mirrored front view; a baseline)");
-  c->add_option("--ddim-steps", a.ddimSteps, "DDIM steps per side view (default 20)")->check(wholeNumber(1, 10000));
-  c->add_option("--init-steps", a.initSteps, "DDIM steps for frames 0 and 1 (default 50)")->check(wholeNumber(1, 10000));
-  c->add_option("--eta", a.eta, "DDIM eta: 0 deterministic, 1 ancestral (default 1)")->check(number(0, 100));
-  c->add_option("--side-view-start", a.sideViewStart,
-                "DDIM start step: -1 samples from pure noise (the paper), lower from the mirrored front view noised to "
-                "that step (default " + std::to_string(a.sideViewStart) + "; docs/reconstruction.md)")
-      ->check(wholeNumber(-1, 100000));
+  addSideViewSamplingFlags(*c, a.sampling);
   c->add_flag("--no-refine", a.noRefine, "skip the novel-view refinement (the coarse density; an ablation)");
   c->add_flag("--no-progressive", a.noProgressive, "refine every novel view in one pass (an ablation)");
   c->add_option("--inflow-iterations", a.inflowIterations, "AdamW iterations of the inflow per frame (default 40)")
