@@ -8,7 +8,9 @@
 #   tools/eval-heldout.sh OUT_DIR [SCENE_DIR...]
 #       defaults: scenes 0009, 0019, 0029 of data/small (held out: every 10th scene), frames 0:FRAMES
 #   environment: SMOKESVD (default build/smokesvd), MODELS (default: the shipped models/small),
-#                FRAMES (default 24), VARIANTS (default: all below but no-multi-frame),
+#                FRAMES (default 24), VARIANTS (default: all below but no-multi-frame and the true-side
+#                ones, which bound what a better side view would buy: the scene's true 90-degree view,
+#                rendered like the front, given with --side-views),
 #                NO_MULTI_FRAME_MODELS: for the no-multi-frame variant, a models folder whose svdiff was
 #                trained with options.multi_frame = false (docs/evaluation.md says how)
 set -euo pipefail
@@ -29,20 +31,24 @@ declare -A FLAGS=(
   [mirror-side]="--side-view mirror"
   [polish-20]="--polish 20"
   [no-multi-frame]="--models ${NO_MULTI_FRAME_MODELS:-}"
+  [true-side]=""
+  [true-side-no-refinement]="--no-refine"
 )
 VARIANTS=(${VARIANTS:-full no-refinement no-progressive mirror-side polish-20})
 
 for scene in "${SCENES[@]}"; do
   name=$(basename "$scene")
   front="$OUT/$name/front"
-  if [ ! -f "$front.done" ]; then
-    absorption=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['render']['absorption'])" "$scene/scene.json")
-    volumes=()
-    for ((t = 0; t < FRAMES; t++)); do volumes+=("$scene/fields/density_$(printf %04d $t).npz"); done
-    "$SMOKESVD" render "${volumes[@]}" --preset small --angles 0 --absorption "$absorption" --ambient 1 \
-      --bits 16 --out "$front" > /dev/null
-    touch "$front.done"
-  fi
+  absorption=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['render']['absorption'])" "$scene/scene.json")
+  volumes=()
+  for ((t = 0; t < FRAMES; t++)); do volumes+=("$scene/fields/density_$(printf %04d $t).npz"); done
+  for view in front:0 side:90; do
+    folder="$OUT/$name/${view%:*}"
+    [ -f "$folder.done" ] && continue
+    "$SMOKESVD" render "${volumes[@]}" --preset small --angles "${view#*:}" --absorption "$absorption" --ambient 1 \
+      --bits 16 --out "$folder" > /dev/null
+    touch "$folder.done"
+  done
   for variant in "${VARIANTS[@]}"; do
     recon="$OUT/$name/$variant"
     models=("${MODELS_FLAG[@]}")
@@ -50,6 +56,7 @@ for scene in "${SCENES[@]}"; do
       [ -n "${NO_MULTI_FRAME_MODELS:-}" ] || { echo "no-multi-frame: set NO_MULTI_FRAME_MODELS" >&2; exit 2; }
       models=()
     fi
+    [[ "$variant" != true-side* ]] || models+=(--side-views "$OUT/$name/side")
     # shellcheck disable=SC2086
     [ -f "$recon/run.json" ] && grep -q '"complete": true' "$recon/run.json" ||
       "$SMOKESVD" reconstruct "$front" --out "$recon" --framing box --intensity none --resume \

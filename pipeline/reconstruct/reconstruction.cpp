@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <optional>
 
 #include "nets/io/file_io.h"
 #include "nets/io/npy.h"
@@ -55,7 +56,9 @@ nlohmann::json signature(const ReconstructOptions& o, const MethodModels& models
           {"preset", o.preset},
           {"models", models.hashes},
           {"side_view",
-           {{"synthesize", o.sideView.synthesize}, {"steps", o.sideView.steps}, {"init_steps", o.sideView.initSteps},
+           {{"synthesize", o.sideView.synthesize && o.sideViews.empty()},
+            {"given", o.sideViews.empty() ? "" : fs::absolute(o.sideViews).string()},
+            {"steps", o.sideView.steps}, {"init_steps", o.sideView.initSteps},
             {"eta", o.sideView.eta}, {"start", o.sideView.start}, {"seed", o.sideView.seed}}},
           {"density", {{"refine", o.density.refine}, {"progressive", o.density.progressive}}},
           {"motion",
@@ -69,6 +72,24 @@ nlohmann::json signature(const ReconstructOptions& o, const MethodModels& models
           {"source", views.describe()}};
 }
 
+// The side views of --side-views from the input's first frame on, one per front view (a longer clip is
+// cut to the input's length), or none.
+std::optional<FrontViews> readGivenSideViews(const ReconstructOptions& o, const Preset& preset, int frames) {
+  if (o.sideViews.empty()) return std::nullopt;
+  InputOptions given = o.input;
+  given.input = o.sideViews;
+  given.framing = Framing::Box;
+  given.calibration.clear();
+  given.camera.clear();
+  given.count = -1;
+  FrontViews sides = readFrontViews(given, preset);
+  if (static_cast<int>(sides.frames.size()) < frames)
+    throw Error(o.sideViews.string() + ": " + std::to_string(sides.frames.size()) + " side views for " +
+                std::to_string(frames) + " front views; expected one side view per frame");
+  sides.frames.resize(static_cast<std::size_t>(frames));
+  return sides;
+}
+
 }  // namespace
 
 ReconstructResult runReconstruction(Context& context, const ReconstructOptions& o) {
@@ -77,7 +98,8 @@ ReconstructResult runReconstruction(Context& context, const ReconstructOptions& 
   const FrontViews views = readFrontViews(o.input, preset);
   const int frames = static_cast<int>(views.frames.size());
   const fs::path modelsFolder = o.models.empty() ? defaultModelsFolder(o.preset) : o.models;
-  MethodModels models(context, modelsFolder, preset, o.sideView.synthesize);
+  const std::optional<FrontViews> givenSides = readGivenSideViews(o, preset, frames);
+  MethodModels models(context, modelsFolder, preset, o.sideView.synthesize && !givenSides);
   const nlohmann::json runSignature = signature(o, models, views);
 
   RunFolder folder(o.out);
@@ -179,7 +201,10 @@ ReconstructResult runReconstruction(Context& context, const ReconstructOptions& 
       result.stageSeconds[stage] += since(start);
       return value;
     };
-    const Tensor side = timed("side_view", [&] { return sideView(context, models, state, t, front, nextFront, o.sideView); });
+    const Tensor side = timed("side_view", [&] {
+      return givenSides ? Tensor::fromHost(context, front.shape(), givenSides->frames[static_cast<std::size_t>(t)])
+                        : sideView(context, models, state, t, front, nextFront, o.sideView);
+    });
     const DensityResult density = timed("density", [&] {
       return reconstructDensity(context, models, state, t, front, side, look, o.density);
     });

@@ -36,6 +36,10 @@ struct ReconstructOptions {
   bool videos = true;            // input/side/orbit mp4 and the contact sheet at the end
   int stopAfter = -1;            // stop after this many frames in this call, as if interrupted
   SideViewOptions sideView;
+  // Side views given rather than synthesised (an oracle for ablations, or a second camera at 90°): read
+  // like the input (from the same first frame, with the same intensity option) with box framing; one per
+  // front view.
+  std::filesystem::path sideViews;
   DensityOptions density;
   MotionOptions motion;
   PolishOptions polish;

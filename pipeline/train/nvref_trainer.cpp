@@ -1,5 +1,6 @@
 #include "pipeline/train/nvref_trainer.h"
 
+#include "nets/functional/activation.h"
 #include "nets/functional/broadcast.h"
 #include "nets/functional/concat.h"
 #include "nets/functional/elementwise.h"
@@ -49,11 +50,18 @@ NvRefTrainer::Batch::Batch(Context& context, const Preset& p, int n) : views(n) 
   const std::vector<Camera> aroundCameras(static_cast<std::size_t>(2 * n), networks::orbitCameraAt(p, 0));
   targets = render::uploadViews(context, targetCameras);
   around = render::uploadViews(context, aroundCameras);
+  const std::vector<Camera> frontCameras(networks::kSlots, networks::orbitCameraAt(p, 0));
+  fronts = render::uploadViews(context, frontCameras);
   const Shape volume = p.grid.volume();
   current = variable(Tensor(context, volume));
   previous = variable(Tensor(context, volume));
   beforePrevious = variable(Tensor(context, volume));
+  mirrored = variable(Tensor(context, volume));
+  mirroredPrevious = variable(Tensor(context, volume));
+  mirroredBeforePrevious = variable(Tensor(context, volume));
   known = variable(Tensor(context, {networks::kSlots}));
+  knownWithoutSide = variable(Tensor(context, {networks::kSlots}));
+  sideOnly = variable(Tensor(context, {networks::kSlots}));
   usePrevious = variable(Tensor(context, {n}));
 }
 
@@ -64,12 +72,20 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
       batch_(context, data.preset(), kBatch) {
   const std::string lossWhere = config.source + " [loss]", optionsWhere = config.source + " [options]";
   models::requireKnownKeys(config.loss, {"mse", "l1", "mean_residual", "row_sum", "psnr_gap"}, lossWhere);
-  models::requireKnownKeys(config.options, {"beta", "coarse_model"}, optionsWhere);
+  models::requireKnownKeys(config.options, {"beta", "coarse_model", "mirrored_side", "history"}, optionsWhere);
   weights_ = {networks::number(config.loss, "mse", lossWhere), networks::number(config.loss, "l1", lossWhere),
               networks::number(config.loss, "mean_residual", lossWhere), networks::number(config.loss, "row_sum", lossWhere),
               networks::number(config.loss, "psnr_gap", lossWhere)};
   beta_ = networks::number(config.options, "beta", optionsWhere);
   if (!(beta_ > 0 && beta_ < 90)) throw Error(optionsWhere + ": 'beta' must be in (0, 90) degrees");
+  if (config.options.contains("mirrored_side")) mirroredSide_ = networks::number(config.options, "mirrored_side", optionsWhere);
+  if (!(mirroredSide_ >= 0 && mirroredSide_ <= 1)) throw Error(optionsWhere + ": 'mirrored_side' must be a probability in [0, 1]");
+  if (config.options.contains("history")) {
+    const std::string history = networks::text(config.options, "history", optionsWhere);
+    if (history != "truth" && history != "coarse" && history != "self")
+      throw Error(optionsWhere + ": 'history' must be \"truth\", \"coarse\" or \"self\", not \"" + history + "\"");
+    history_ = history == "truth" ? History::Truth : history == "coarse" ? History::Coarse : History::Self;
+  }
   if (networks::text(config.options, "coarse_model", optionsWhere) != "grho-coarse")
     throw Error(optionsWhere + ": 'coarse_model' must be \"grho-coarse\"");
   const networks::TrainedModel trained = networks::findTrainedModel(models, networks::Network::GrhoCoarse, data.preset());
@@ -81,7 +97,7 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
 }
 
 int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int frame, const Augmentation& a, int stage,
-                         const std::vector<int>& slots, const std::vector<float>& usePrevious) {
+                         const std::vector<int>& slots, const std::vector<float>& usePrevious, bool mirroredSide) {
   const Preset& p = data_.preset();
   std::vector<Camera> targets, around;
   for (const int slot : slots) targets.push_back(networks::orbitCameraAt(p, networks::slotAngle(slot)));
@@ -92,7 +108,23 @@ int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int fra
   batch.current->value.upload(augmentedDensity(data_, scene, frame, a));
   batch.previous->value.upload(augmentedDensity(data_, scene, frame - 1, a));
   batch.beforePrevious->value.upload(augmentedDensity(data_, scene, frame - 2, a));
-  batch.known->value.upload(knownBefore(stage));
+  const std::vector<float> known = knownBefore(stage);
+  std::vector<float> withoutSide = known, sideOnly(networks::kSlots, 0.0f);
+  batch.mirroredSide = mirroredSide;
+  if (mirroredSide) {
+    withoutSide[networks::kSideSlot] = 0.0f;
+    sideOnly[networks::kSideSlot] = 1.0f;
+    Augmentation flipped = a;
+    flipped.mirror = !a.mirror;
+    batch.mirrored->value.upload(augmentedDensity(data_, scene, frame, flipped));
+    if (history_ != History::Truth) {
+      batch.mirroredPrevious->value.upload(augmentedDensity(data_, scene, frame - 1, flipped));
+      batch.mirroredBeforePrevious->value.upload(augmentedDensity(data_, scene, frame - 2, flipped));
+    }
+  }
+  batch.known->value.upload(known);
+  batch.knownWithoutSide->value.upload(withoutSide);
+  batch.sideOnly->value.upload(sideOnly);
   batch.usePrevious->value.upload(usePrevious);
   return look_.upload(augmentedLook(data_, scene, a));
 }
@@ -105,7 +137,20 @@ int NvRefTrainer::prepare(int64_t, diffusion::Gaussian& random) {
   while (slots.size() > kBatch) slots.erase(slots.begin() + static_cast<std::ptrdiff_t>(random.uniform() * static_cast<double>(slots.size())));
   std::vector<float> usePrevious;
   for (int i = 0; i < kBatch; ++i) usePrevious.push_back(random.uniform() < 0.1 ? 0.0f : 1.0f);
-  return upload(batch_, *draw.scene, draw.frame, a, stage, slots, usePrevious);
+  const bool mirroredSide = mirroredSide_ > 0 && random.uniform() < mirroredSide_;
+  return upload(batch_, *draw.scene, draw.frame, a, stage, slots, usePrevious, mirroredSide);
+}
+
+// The coarse G_rho's density of `volume` from the views known at the batch's stage; the side slot's view
+// is the mirrored front view (the front render of `mirrored`) where the sample draws it so.
+Var NvRefTrainer::coarseDensity(Tape& tape, Batch& batch, const Var& volume, const Var& mirrored,
+                                const render::RenderSettings& settings) {
+  const Var views = diff::render(tape, volume, coarse_->views(), settings);
+  const Var known = batch.mirroredSide
+                        ? fn::add(tape, fn::mulSample(tape, views, batch.knownWithoutSide),
+                                  fn::mulSample(tape, diff::render(tape, mirrored, batch.fronts, settings), batch.sideOnly))
+                        : fn::mulSample(tape, views, batch.known);
+  return coarse_->forward(tape, known, batch.known).density;
 }
 
 NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const render::RenderSettings& settings) {
@@ -113,8 +158,7 @@ NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const rende
   Var minus, plus, previous, beforePrevious;
   {
     NoGrad noGrad(tape);
-    const Var known = fn::mulSample(tape, diff::render(tape, batch.current, coarse_->views(), settings), batch.known);
-    const Var coarse = coarse_->forward(tape, known, batch.known).density;
+    const Var coarse = coarseDensity(tape, batch, batch.current, batch.mirrored, settings);
     images.render = diff::render(tape, coarse, batch.targets, settings);
     const Var around = diff::render(tape, coarse, batch.around, settings);
     minus = group(tape, around, 0, batch.views);
@@ -123,12 +167,24 @@ NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const rende
     // Where a previous frame stands in for nothing (frames 0 and 1), the coarse render takes its place.
     const Var instead = fn::sub(tape, variable(Tensor::fromHost(context_, {batch.views}, std::vector<float>(static_cast<std::size_t>(batch.views), 1.0f))),
                                 batch.usePrevious);
-    auto standIn = [&](const Var& volume) {
-      return fn::add(tape, fn::mulSample(tape, diff::render(tape, volume, batch.targets, settings), batch.usePrevious),
-                     fn::mulSample(tape, images.render, instead));
+    auto standIn = [&](const Var& volume, const Var& mirrored) {
+      Var history = diff::render(tape, volume, batch.targets, settings);
+      if (history_ != History::Truth) {
+        const Var density = coarseDensity(tape, batch, volume, mirrored, settings);
+        history = diff::render(tape, density, batch.targets, settings);
+        if (history_ == History::Self) {
+          // That frame refined as the first frames are (its render standing in for its own history),
+          // clamped at 0 as the reconstruction clamps it.
+          const Var aroundThen = diff::render(tape, density, batch.around, settings);
+          history = fn::relu(tape, refiner_.forward(tape, history, group(tape, aroundThen, 0, batch.views),
+                                                    group(tape, aroundThen, 1, batch.views), history, history)
+                                       .refined);
+        }
+      }
+      return fn::add(tape, fn::mulSample(tape, history, batch.usePrevious), fn::mulSample(tape, images.render, instead));
     };
-    previous = standIn(batch.previous);
-    beforePrevious = standIn(batch.beforePrevious);
+    previous = standIn(batch.previous, batch.mirroredPrevious);
+    beforePrevious = standIn(batch.beforePrevious, batch.mirroredBeforePrevious);
   }
   const networks::RefinerOutput out = refiner_.forward(tape, images.render, minus, plus, previous, beforePrevious);
   images.refined = out.refined;
@@ -156,39 +212,42 @@ LossTerms NvRefTrainer::record(Tape& tape, int variant) {
 std::vector<Metric> NvRefTrainer::validate() {
   const int samples = config_.train.validationSamples;
   const char* names[] = {"near", "mid", "far"};
-  std::vector<double> refined(3, 0.0), unrefined(3, 0.0);
   std::vector<std::unique_ptr<Batch>> batches;
   for (int stage = 0; stage < 3; ++stage)
     batches.push_back(std::make_unique<Batch>(context_, data_.preset(), static_cast<int>(stageSlots(stage).size())));
-  for (int k = 0; k < samples; ++k) {
-    const FrameDraw draw = validationFrames(data_.validation(), k, samples, 1, 2);
-    for (int stage = 0; stage < 3; ++stage) {
-      Batch& batch = *batches[static_cast<std::size_t>(stage)];
-      const int variant = upload(batch, *draw.scene, draw.frame, Augmentation{}, stage, stageSlots(stage),
-                                 std::vector<float>(static_cast<std::size_t>(batch.views), 1.0f));
-      Stream stream(context_);
-      Tape tape(stream);
-      NoGrad noGrad(tape);
-      const Images images = forward(tape, batch, look_.settings(variant == 1));
-      stream.submit();
-      const std::vector<float> t = images.truth->value.download(), r = images.render->value.download(),
-                               f = images.refined->value.download();
-      const std::size_t pixels = t.size() / static_cast<std::size_t>(batch.views);
-      for (int v = 0; v < batch.views; ++v) {
-        const std::span<const float> tv(t.data() + v * pixels, pixels), rv(r.data() + v * pixels, pixels),
-            fv(f.data() + v * pixels, pixels);
-        refined[static_cast<std::size_t>(stage)] += psnr(fv, tv) / batch.views;
-        unrefined[static_cast<std::size_t>(stage)] += psnr(rv, tv) / batch.views;
+  std::vector<Metric> metrics;
+  for (const bool mirroredSide : {false, true}) {
+    std::vector<double> refined(3, 0.0), unrefined(3, 0.0);
+    for (int k = 0; k < samples; ++k) {
+      const FrameDraw draw = validationFrames(data_.validation(), k, samples, 1, 2);
+      for (int stage = 0; stage < 3; ++stage) {
+        Batch& batch = *batches[static_cast<std::size_t>(stage)];
+        const int variant = upload(batch, *draw.scene, draw.frame, Augmentation{}, stage, stageSlots(stage),
+                                   std::vector<float>(static_cast<std::size_t>(batch.views), 1.0f), mirroredSide);
+        Stream stream(context_);
+        Tape tape(stream);
+        NoGrad noGrad(tape);
+        const Images images = forward(tape, batch, look_.settings(variant == 1));
+        stream.submit();
+        const std::vector<float> t = images.truth->value.download(), r = images.render->value.download(),
+                                 f = images.refined->value.download();
+        const std::size_t pixels = t.size() / static_cast<std::size_t>(batch.views);
+        for (int v = 0; v < batch.views; ++v) {
+          const std::span<const float> tv(t.data() + v * pixels, pixels), rv(r.data() + v * pixels, pixels),
+              fv(f.data() + v * pixels, pixels);
+          refined[static_cast<std::size_t>(stage)] += psnr(fv, tv) / batch.views;
+          unrefined[static_cast<std::size_t>(stage)] += psnr(rv, tv) / batch.views;
+        }
       }
     }
-  }
-  std::vector<Metric> metrics;
-  double gain = 0;
-  for (int stage = 0; stage < 3; ++stage) gain += (refined[static_cast<std::size_t>(stage)] - unrefined[static_cast<std::size_t>(stage)]) / samples / 3;
-  metrics.push_back({"psnr_gain", gain});
-  for (int stage = 0; stage < 3; ++stage) {
-    metrics.push_back({std::string("psnr_refined_") + names[stage], refined[static_cast<std::size_t>(stage)] / samples});
-    metrics.push_back({std::string("psnr_unrefined_") + names[stage], unrefined[static_cast<std::size_t>(stage)] / samples});
+    const std::string suffix = mirroredSide ? "_mirrored" : "";
+    double gain = 0;
+    for (int stage = 0; stage < 3; ++stage) gain += (refined[static_cast<std::size_t>(stage)] - unrefined[static_cast<std::size_t>(stage)]) / samples / 3;
+    metrics.push_back({"psnr_gain" + suffix, gain});
+    for (int stage = 0; stage < 3; ++stage) {
+      metrics.push_back({std::string("psnr_refined_") + names[stage] + suffix, refined[static_cast<std::size_t>(stage)] / samples});
+      metrics.push_back({std::string("psnr_unrefined_") + names[stage] + suffix, unrefined[static_cast<std::size_t>(stage)] / samples});
+    }
   }
   return metrics;
 }

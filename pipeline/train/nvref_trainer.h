@@ -7,8 +7,16 @@
 // w the true render, w_r the coarse render, H the row sums (nets/functional/losses.h). The refined
 // images of the two previous frames are stood in for by the true renders of those frames (and, for a
 // tenth of the samples, by the coarse render itself, as at frames 0 and 1 where no previous refined
-// image exists). Validation: the PSNR of the refined and of the unrefined renders against the truth at
-// the near, mid and far views.
+// image exists). That teaches NvRef to copy the truth of the frame before, which inference does not have:
+// there the history is NvRef's own output, and its errors feed back frame after frame. With
+// options.history = "coarse" the history is instead the renders of the coarse G_rho's densities of
+// those frames (reconstructed like the current one's); with "self" it is those renders refined by NvRef
+// itself (without gradient, as the first frames are refined: each render standing in for its own history). At inference the side view is synthesised, not true: with probability
+// options.mirrored_side (default 0) a sample's coarse density is reconstructed with the mirrored front
+// view in the side slot instead (the front render of the x-mirrored volume), so that NvRef also learns
+// from the blurrier, wrongly deep densities it is given in practice. Validation: the PSNR of the refined
+// and of the unrefined renders against the truth at the near, mid and far views, with the true side view
+// and (suffix _mirrored) with the mirrored front view.
 #pragma once
 
 #include <memory>
@@ -46,20 +54,28 @@ class NvRefTrainer : public StageTrainer {
     explicit Batch(Context& context, const Preset& preset, int views);
     int views;
     render::ViewSet targets, around;  // the N target views; the 2N views at -beta and +beta
-    Var current, previous, beforePrevious, known, usePrevious;
+    render::ViewSet fronts;           // 16 front cameras: the mirrored front view for every slot
+    Var current, previous, beforePrevious;                      // the true densities at t, t-1, t-2
+    Var mirrored, mirroredPrevious, mirroredBeforePrevious;     // the same, mirrored in x (mirrored side only)
+    Var known, knownWithoutSide, sideOnly, usePrevious;
+    bool mirroredSide = false;  // this sample's side slot holds the mirrored front view
   };
   int upload(Batch& batch, const dataset::SceneEntry& scene, int frame, const Augmentation& a, int stage,
-             const std::vector<int>& slots, const std::vector<float>& usePrevious);
+             const std::vector<int>& slots, const std::vector<float>& usePrevious, bool mirroredSide);
   struct Images {
     Var truth, render, refined, residual;
   };
   Images forward(Tape& tape, Batch& batch, const render::RenderSettings& settings);
+  Var coarseDensity(Tape& tape, Batch& batch, const Var& volume, const Var& mirrored, const render::RenderSettings& settings);
 
   Context& context_;
   networks::NetworkConfig config_;
   const dataset::SceneDataset& data_;
   Weights weights_{};
   double beta_ = 22.5;
+  double mirroredSide_ = 0.0;
+  enum class History { Truth, Coarse, Self };
+  History history_ = History::Truth;  // options.history
   networks::Refiner refiner_;
   std::unique_ptr<networks::DensityGenerator> coarse_;
   LookSlot look_;

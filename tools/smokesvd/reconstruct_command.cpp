@@ -18,7 +18,7 @@ namespace smokesvd::cli {
 namespace {
 
 struct ReconstructArguments {
-  std::string input, out, models, frames, camera, framing, intensity = "auto", background = "level", sideView = "synthesize";
+  std::string input, out, models, frames, camera, framing, intensity = "auto", background = "level", sideView = "synthesize", sideViews;
   std::string preset = "small";
   float threshold = 0.02f, target = 0.9f;
   reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start
@@ -77,6 +77,8 @@ void runReconstruct(const GlobalOptions& global, const ReconstructArguments& a) 
   if (a.sideView != "synthesize" && a.sideView != "mirror") throw Error("--side-view: expected synthesize or mirror");
   o.sideView = a.sampling;
   o.sideView.synthesize = a.sideView == "synthesize";
+  if (!a.sideViews.empty() && a.sideView == "mirror") throw Error("--side-views gives the side views; it cannot be combined with --side-view mirror");
+  o.sideViews = a.sideViews;
   o.density.refine = !a.noRefine;
   o.density.progressive = !a.noProgressive;
   o.motion.inflowIterations = a.inflowIterations;
@@ -107,6 +109,9 @@ void addReconstructCommand(CLI::App& app, const GlobalOptions& global, Action& a
   c->add_option("--threshold", a.threshold, "noise floor after normalisation (default 0.02)")->check(number(0, 1));
   c->add_option("--target", a.target, "the level the footage's 99.9th percentile maps to (default 0.9)")->check(positiveNumber(1e6));
   c->add_option("--side-view", a.sideView, "synthesize (SvDiff, default) or mirror (the mirrored front view; a baseline)");
+  c->add_option("--side-views", a.sideViews,
+                "side views given, not synthesised (a true side view as an oracle, or a second camera at 90 degrees): "
+                "a video, PNG folder or image stack, read like the input with box framing, one per frame");
   addSideViewSamplingFlags(*c, a.sampling);
   c->add_flag("--no-refine", a.noRefine, "skip the novel-view refinement (the coarse density; an ablation)");
   c->add_flag("--no-progressive", a.noProgressive, "refine every novel view in one pass (an ablation)");

@@ -176,6 +176,32 @@ TEST_F(ReconstructTest, AOneFrameClipReconstructs) {
   EXPECT_TRUE(fs::exists(o.out / "fields" / "velocity_0000.npz"));
 }
 
+// --side-views: the given images are the side views, as they are (the clip's own frames stand in for
+// side views here); a folder with another number of frames is an error naming it.
+TEST_F(ReconstructTest, GivenSideViewsAreTheSideViews) {
+  reconstruct::ReconstructOptions o = quickOptions(tinyScratch("given_side"));
+  o.input.count = 3;
+  o.videos = false;
+  o.sideViews = clip();
+  ASSERT_TRUE(reconstruct::runReconstruction(context(), o).complete);
+  for (int t = 0; t < 3; ++t) {
+    const std::vector<float> given = media::readPng(clip() / (sim::frameName(t) + ".png")).values;
+    const std::vector<float> written = media::readPng(o.out / "side" / (sim::frameName(t) + ".png")).values;
+    ASSERT_EQ(given.size(), written.size());
+    for (std::size_t i = 0; i < given.size(); ++i) ASSERT_NEAR(written[i], given[i], 0.5f / 255) << "frame " << t << ", pixel " << i;
+  }
+  const fs::path two = tinyScratch("given_side_two");
+  for (int t = 0; t < 2; ++t) fs::copy_file(clip() / (sim::frameName(t) + ".png"), two / (sim::frameName(t) + ".png"));
+  o.sideViews = two;
+  o.out = tinyScratch("given_side_mismatch");
+  try {
+    reconstruct::runReconstruction(context(), o);
+    FAIL() << "2 side views for 3 frames were accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("2 side views for 3 front views"), std::string::npos) << e.what();
+  }
+}
+
 std::string errorOf(Context& context, const reconstruct::ReconstructOptions& o) {
   try {
     reconstruct::runReconstruction(context, o);

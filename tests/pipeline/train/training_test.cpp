@@ -36,9 +36,8 @@ networks::NetworkConfig tinyConfig(networks::Network network, int64_t steps) {
   return c;
 }
 
-train::TrainingResult trainTiny(networks::Network network, const fs::path& out, int64_t steps, int64_t stopAfter = -1,
+train::TrainingResult trainTiny(const networks::NetworkConfig& config, const fs::path& out, int64_t stopAfter = -1,
                                 bool resume = false, const fs::path& models = {}) {
-  const networks::NetworkConfig config = tinyConfig(network, steps);
   dataset::DatasetOptions options;
   options.validationEvery = 4;
   const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
@@ -50,6 +49,11 @@ train::TrainingResult trainTiny(networks::Network network, const fs::path& out, 
   o.quiet = true;
   o.seed = 7;
   return train::runTraining(testContext(), *trainer, config, o);
+}
+
+train::TrainingResult trainTiny(networks::Network network, const fs::path& out, int64_t steps, int64_t stopAfter = -1,
+                                bool resume = false, const fs::path& models = {}) {
+  return trainTiny(tinyConfig(network, steps), out, stopAfter, resume, models);
 }
 
 std::vector<io::NamedArray> weightsOf(const fs::path& run) { return io::readSafetensors(run / "model.safetensors").tensors; }
@@ -117,6 +121,37 @@ TEST_F(TrainingTest, ARunFolderIsNeitherResumedNorOverwrittenUnasked) {
   // A finished run resumed is a no-op; a run of another config refuses to resume.
   EXPECT_EQ(trainTiny(networks::Network::GrhoFine, out, 3, -1, true).stepsThisCall, 0);
   EXPECT_THROW(trainTiny(networks::Network::GrhoFine, out, 4, -1, true), Error);
+}
+
+// NvRef with the mirrored front view in the side slot of every sample, and its history made as inference
+// makes it (the coarse renders, or NvRef's own refinements of the previous frames): it trains, and
+// validation reports the refinement with the true and with the mirrored side view.
+TEST_F(TrainingTest, NvRefTrainsOnTheMirroredSideViewAndItsOwnHistory) {
+  for (const char* history : {"coarse", "self"}) {
+    networks::NetworkConfig config = tinyConfig(networks::Network::NvRef, 3);
+    config.options["mirrored_side"] = 1.0;
+    config.options["history"] = history;
+    const fs::path out = scratch(std::string("nvref_") + history) / "nvref";
+    EXPECT_TRUE(trainTiny(config, out, -1, false, tinyModels()).complete) << history;
+    std::ifstream csv(out / "validation.csv");
+    std::string header, row;
+    ASSERT_TRUE(std::getline(csv, header) && std::getline(csv, row)) << history;
+    EXPECT_NE(header.find("psnr_gain,"), std::string::npos) << header;
+    EXPECT_NE(header.find("psnr_refined_near_mirrored"), std::string::npos) << header;
+    EXPECT_EQ(row.find("nan"), std::string::npos) << history << ": " << row;
+  }
+  networks::NetworkConfig config = tinyConfig(networks::Network::NvRef, 3);
+  config.options["mirrored_side"] = 1.5;
+  EXPECT_THROW(trainTiny(config, scratch("nvref_bad") / "nvref", -1, false, tinyModels()), Error);
+  config.options["mirrored_side"] = 0.5;
+  config.options["history"] = "oracle";
+  try {
+    trainTiny(config, scratch("nvref_bad_history") / "nvref", -1, false, tinyModels());
+    FAIL() << "an unknown history was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'history' must be \"truth\", \"coarse\" or \"self\", not \"oracle\""), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(TrainingInputs, BadDataAndConfigsAreClearErrors) {
