@@ -12,7 +12,8 @@
 // options.history = "coarse" the history is instead the renders of the coarse G_rho's densities of
 // those frames (reconstructed like the current one's); with "self" it is those renders refined by NvRef
 // itself (without gradient, as the first frames are refined: each render standing in for its own
-// history). At inference the side view is synthesised, not true: with probability options.mirrored_side (default 0) a sample's coarse density is reconstructed with the mirrored front
+// history). At inference the side view is synthesised, not true: with probability
+// options.mirrored_side (default 0) a sample's coarse density is reconstructed with the mirrored front
 // view in the side slot instead (the front render of the x-mirrored volume), so that NvRef also learns
 // from the blurrier, wrongly deep densities it is given in practice. Validation: the PSNR of the refined
 // and of the unrefined renders against the truth at the near, mid and far views, with the true side view
