@@ -61,7 +61,9 @@ NvRefTrainer::Batch::Batch(Context& context, const Preset& p, int n) : views(n) 
   mirroredBeforePrevious = variable(Tensor(context, volume));
   known = variable(Tensor(context, {networks::kSlots}));
   knownWithoutSide = variable(Tensor(context, {networks::kSlots}));
-  sideOnly = variable(Tensor(context, {networks::kSlots}));
+  std::vector<float> side(networks::kSlots, 0.0f);
+  side[networks::kSideSlot] = 1.0f;
+  sideOnly = variable(Tensor::fromHost(context, {networks::kSlots}, side));
   usePrevious = variable(Tensor(context, {n}));
 }
 
@@ -109,11 +111,12 @@ int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int fra
   batch.previous->value.upload(augmentedDensity(data_, scene, frame - 1, a));
   batch.beforePrevious->value.upload(augmentedDensity(data_, scene, frame - 2, a));
   const std::vector<float> known = knownBefore(stage);
-  std::vector<float> withoutSide = known, sideOnly(networks::kSlots, 0.0f);
+  batch.known->value.upload(known);
   batch.mirroredSide = mirroredSide;
   if (mirroredSide) {
+    std::vector<float> withoutSide = known;
     withoutSide[networks::kSideSlot] = 0.0f;
-    sideOnly[networks::kSideSlot] = 1.0f;
+    batch.knownWithoutSide->value.upload(withoutSide);
     Augmentation flipped = a;
     flipped.mirror = !a.mirror;
     batch.mirrored->value.upload(augmentedDensity(data_, scene, frame, flipped));
@@ -122,9 +125,6 @@ int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int fra
       batch.mirroredBeforePrevious->value.upload(augmentedDensity(data_, scene, frame - 2, flipped));
     }
   }
-  batch.known->value.upload(known);
-  batch.knownWithoutSide->value.upload(withoutSide);
-  batch.sideOnly->value.upload(sideOnly);
   batch.usePrevious->value.upload(usePrevious);
   return look_.upload(augmentedLook(data_, scene, a));
 }
@@ -168,18 +168,15 @@ NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const rende
     const Var instead = fn::sub(tape, variable(Tensor::fromHost(context_, {batch.views}, std::vector<float>(static_cast<std::size_t>(batch.views), 1.0f))),
                                 batch.usePrevious);
     auto standIn = [&](const Var& volume, const Var& mirrored) {
-      Var history = diff::render(tape, volume, batch.targets, settings);
-      if (history_ != History::Truth) {
-        const Var density = coarseDensity(tape, batch, volume, mirrored, settings);
-        history = diff::render(tape, density, batch.targets, settings);
-        if (history_ == History::Self) {
-          // That frame refined as the first frames are (its render standing in for its own history),
-          // clamped at 0 as the reconstruction clamps it.
-          const Var aroundThen = diff::render(tape, density, batch.around, settings);
-          history = fn::relu(tape, refiner_.forward(tape, history, group(tape, aroundThen, 0, batch.views),
-                                                    group(tape, aroundThen, 1, batch.views), history, history)
-                                       .refined);
-        }
+      const Var density = history_ == History::Truth ? volume : coarseDensity(tape, batch, volume, mirrored, settings);
+      Var history = diff::render(tape, density, batch.targets, settings);
+      if (history_ == History::Self) {
+        // That frame refined as the first frames are (its render standing in for its own history),
+        // clamped at 0 as the reconstruction clamps it.
+        const Var aroundThen = diff::render(tape, density, batch.around, settings);
+        history = fn::relu(tape, refiner_.forward(tape, history, group(tape, aroundThen, 0, batch.views),
+                                                  group(tape, aroundThen, 1, batch.views), history, history)
+                                     .refined);
       }
       return fn::add(tape, fn::mulSample(tape, history, batch.usePrevious), fn::mulSample(tape, images.render, instead));
     };

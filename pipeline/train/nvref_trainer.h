@@ -58,7 +58,9 @@ class NvRefTrainer : public StageTrainer {
     render::ViewSet fronts;           // 16 front cameras: the mirrored front view for every slot
     Var current, previous, beforePrevious;                      // the true densities at t, t-1, t-2
     Var mirrored, mirroredPrevious, mirroredBeforePrevious;     // the same, mirrored in x (mirrored side only)
-    Var known, knownWithoutSide, sideOnly, usePrevious;
+    Var known, usePrevious;     // [16] the slots known at the stage; [N] 0 where the render stands in for history
+    Var knownWithoutSide;       // [16] known, less the side slot (mirrored side only)
+    Var sideOnly;               // [16] 1 at the side slot, 0 elsewhere (constant)
     bool mirroredSide = false;  // this sample's side slot holds the mirrored front view
   };
   int upload(Batch& batch, const dataset::SceneEntry& scene, int frame, const Augmentation& a, int stage,
