@@ -37,6 +37,12 @@ Var group(Tape& tape, const Var& images, int index, int n) {
   return fn::reshape(tape, fn::sliceChannels(tape, asChannels, index * n, (index + 1) * n), {n, 1, s[2], s[3]});
 }
 
+// An all-black image of x's shape (a constant).
+Var blackLike(Tape& tape, const Var& x) {
+  const std::vector<float> zeros(static_cast<std::size_t>(x->value.numel()), 0.0f);
+  return variable(Tensor::fromHost(tape.stream().context(), x->value.shape(), zeros));
+}
+
 Var sumOf(Tape& tape, const std::vector<Var>& terms) {
   Var sum;
   for (const Var& t : terms) sum = sum ? fn::add(tape, sum, t) : t;
@@ -74,7 +80,7 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
       batch_(context, data.preset(), kBatch) {
   const std::string lossWhere = config.source + " [loss]", optionsWhere = config.source + " [options]";
   models::requireKnownKeys(config.loss, {"mse", "l1", "mean_residual", "row_sum", "psnr_gap"}, lossWhere);
-  models::requireKnownKeys(config.options, {"beta", "coarse_model", "mirrored_side", "history"}, optionsWhere);
+  models::requireKnownKeys(config.options, {"beta", "coarse_model", "mirrored_side", "history", "psnr_reference"}, optionsWhere);
   weights_ = {networks::number(config.loss, "mse", lossWhere), networks::number(config.loss, "l1", lossWhere),
               networks::number(config.loss, "mean_residual", lossWhere), networks::number(config.loss, "row_sum", lossWhere),
               networks::number(config.loss, "psnr_gap", lossWhere)};
@@ -87,6 +93,12 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
     if (history != "truth" && history != "coarse" && history != "self")
       throw Error(optionsWhere + ": 'history' must be \"truth\", \"coarse\" or \"self\", not \"" + history + "\"");
     history_ = history == "truth" ? History::Truth : history == "coarse" ? History::Coarse : History::Self;
+  }
+  if (config.options.contains("psnr_reference")) {
+    const std::string reference = networks::text(config.options, "psnr_reference", optionsWhere);
+    if (reference != "render" && reference != "black")
+      throw Error(optionsWhere + ": 'psnr_reference' must be \"render\" or \"black\", not \"" + reference + "\"");
+    psnrAgainstBlack_ = reference == "black";
   }
   if (networks::text(config.options, "coarse_model", optionsWhere) != "grho-coarse")
     throw Error(optionsWhere + ": 'coarse_model' must be \"grho-coarse\"");
@@ -199,7 +211,8 @@ LossTerms NvRefTrainer::record(Tape& tape, int variant) {
   weighted("l1", weights_.l1, fn::l1Loss(tape, images.refined, images.truth));
   weighted("mean_residual", weights_.meanResidual, fn::meanResidualSquared(tape, images.residual));
   weighted("row_sum", weights_.rowSum, fn::rowSumLoss(tape, images.refined, images.truth));
-  weighted("psnr_gap", weights_.psnrGap, fn::psnrGapLoss(tape, images.refined, images.truth, images.render));
+  const Var reference = psnrAgainstBlack_ ? blackLike(tape, images.render) : images.render;
+  weighted("psnr_gap", weights_.psnrGap, fn::psnrGapLoss(tape, images.refined, images.truth, reference));
   std::vector<Var> all;
   for (const auto& [name, term] : terms.terms) all.push_back(term);
   terms.total = sumOf(tape, all);

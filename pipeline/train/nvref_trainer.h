@@ -3,8 +3,11 @@
 // renders of the views known before that stage (front and side; then the near views; then the mid
 // ones), and NvRef refines the renders of that density at four of the stage's views:
 //   L = l_mse ||w_f - w||^2 + l_l1 |w_f - w| + l_res mean(res)^2 + l_sp ||H(w_f) - H(w)||^2
-//     + l_psnr (PSNR(w_f, w_r) - PSNR(w, w_r))^2
-// w the true render, w_r the coarse render, H the row sums (nets/functional/losses.h). The refined
+//     + l_psnr (PSNR(w_f, r) - PSNR(w, r))^2
+// w the true render, w_r the coarse render, H the row sums (nets/functional/losses.h), r the PSNR's
+// reference: with options.psnr_reference = "render" (default) r = w_r, so the refined image is asked to
+// lie as far from the render as the truth does; with "black" r = 0 and PSNR(x, 0) = 10 log10(1 / mean x^2),
+// a term on the images' energy (the other reading of the paper's PSNR(w_f) - PSNR(w)). The refined
 // images of the two previous frames are stood in for by the true renders of those frames (and, for a
 // tenth of the samples, by the coarse render itself, as at frames 0 and 1 where no previous refined
 // image exists). That teaches NvRef to copy the truth of the frame before, which inference does not have:
@@ -79,6 +82,7 @@ class NvRefTrainer : public StageTrainer {
   double mirroredSide_ = 0.0;
   enum class History { Truth, Coarse, Self };
   History history_ = History::Truth;  // options.history
+  bool psnrAgainstBlack_ = false;      // options.psnr_reference == "black"
   networks::Refiner refiner_;
   std::unique_ptr<networks::DensityGenerator> coarse_;
   LookSlot look_;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <iterator>
 
 #include "nets/io/safetensors.h"
 #include "pipeline/dataset/scene_dataset.h"
@@ -131,8 +132,13 @@ TEST_F(TrainingTest, NvRefTrainsOnTheMirroredSideViewAndItsOwnHistory) {
     networks::NetworkConfig config = tinyConfig(networks::Network::NvRef, 3);
     config.options["mirrored_side"] = 1.0;
     config.options["history"] = history;
+    if (std::string(history) == "self") config.options["psnr_reference"] = "black";
     const fs::path out = scratch(std::string("nvref_") + history) / "nvref";
     EXPECT_TRUE(trainTiny(config, out, -1, false, tinyModels()).complete) << history;
+    std::ifstream losses(out / "loss.csv");
+    const std::string lossText((std::istreambuf_iterator<char>(losses)), std::istreambuf_iterator<char>());
+    EXPECT_NE(lossText.find("psnr_gap"), std::string::npos) << lossText;
+    EXPECT_EQ(lossText.find("nan"), std::string::npos) << history << ": " << lossText;
     std::ifstream csv(out / "validation.csv");
     std::string header, row;
     ASSERT_TRUE(std::getline(csv, header) && std::getline(csv, row)) << history;
@@ -150,6 +156,16 @@ TEST_F(TrainingTest, NvRefTrainsOnTheMirroredSideViewAndItsOwnHistory) {
     FAIL() << "an unknown history was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("'history' must be \"truth\", \"coarse\" or \"self\", not \"oracle\""), std::string::npos)
+        << e.what();
+  }
+  config.options["history"] = "self";
+  config.options["psnr_reference"] = "truth";
+  try {
+    trainTiny(config, scratch("nvref_bad_reference") / "nvref", -1, false, tinyModels());
+    FAIL() << "an unknown PSNR reference was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'psnr_reference' must be \"render\" or \"black\", not \"truth\""),
+              std::string::npos)
         << e.what();
   }
 }
