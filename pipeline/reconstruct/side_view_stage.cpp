@@ -50,6 +50,21 @@ std::vector<float> sample(Context& context, diffusion::Denoiser& denoiser, const
   return toImage(diffusion::ddimSample(context, denoiser, schedule, shape, ddim, &startTensor).download());
 }
 
+// The mean of options.samples samples, the k-th with its seed offset by k * 2^32.
+std::vector<float> meanSample(Context& context, diffusion::Denoiser& denoiser, const diffusion::NoiseSchedule& schedule,
+                              const Shape& shape, diffusion::DdimOptions ddim, const std::vector<float>& fronts,
+                              int samples) {
+  constexpr uint64_t kSampleSeedStride = uint64_t{1} << 32;
+  std::vector<float> mean = sample(context, denoiser, schedule, shape, ddim, fronts);
+  for (int k = 1; k < samples; ++k) {
+    ddim.seed += kSampleSeedStride;
+    const std::vector<float> next = sample(context, denoiser, schedule, shape, ddim, fronts);
+    for (std::size_t i = 0; i < mean.size(); ++i) mean[i] += next[i];
+  }
+  for (float& v : mean) v /= static_cast<float>(samples);
+  return mean;
+}
+
 }  // namespace
 
 Tensor sideView(Context& context, MethodModels& models, FrameState& state, int frame, const Tensor& front,
@@ -70,7 +85,7 @@ Tensor sideView(Context& context, MethodModels& models, FrameState& state, int f
     const std::vector<float> next = nextFront.download();
     fronts.insert(fronts.end(), next.begin(), next.end());
     networks::SideViewDenoiser denoiser(*models.sideViewInit, variable(concatenated(context, {front, nextFront})));
-    const std::vector<float> sides = sample(context, denoiser, models.initSchedule, both, ddim, fronts);
+    const std::vector<float> sides = meanSample(context, denoiser, models.initSchedule, both, ddim, fronts, options.samples);
     const auto half = sides.size() / 2;
     state.pendingSide.upload(std::vector<float>(sides.begin() + static_cast<std::ptrdiff_t>(half), sides.end()));
     return Tensor::fromHost(context, image, std::vector<float>(sides.begin(), sides.begin() + static_cast<std::ptrdiff_t>(half)));
@@ -78,7 +93,8 @@ Tensor sideView(Context& context, MethodModels& models, FrameState& state, int f
   const diffusion::DdimOptions ddim = ddimOptions(options, options.steps, models.schedule, frame);
   networks::SideViewDenoiser denoiser(
       *models.sideView, variable(concatenated(context, {front, state.side1, state.sideRender1, state.side2, state.sideRender2})));
-  return Tensor::fromHost(context, image, sample(context, denoiser, models.schedule, image, ddim, front.download()));
+  return Tensor::fromHost(context, image,
+                          meanSample(context, denoiser, models.schedule, image, ddim, front.download(), options.samples));
 }
 
 }  // namespace smokesvd::reconstruct

@@ -5,7 +5,9 @@
 // baseline) takes the front view mirrored left to right as the side view instead.
 // `start` below T - 1 samples from the mirrored front view(s) noised to that step (SDEdit; the DDIM steps
 // spread over [0, start]) instead of from pure noise (-1, the paper's sampler): docs/reconstruction.md
-// says why the shipped small weights need it.
+// says why the shipped small weights need it. With `samples` K > 1 the side view is the mean of K samples
+// (seeds seed + t + k * 2^32, k = 0..K-1): a Monte-Carlo estimate of the posterior mean E[w | condition],
+// the image of least expected squared error, blurrier than any one sample.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +25,7 @@ struct SideViewOptions {
   double eta = 1.0;
   int start = 400;      // the DDIM start step: -1 pure noise (T - 1), lower from the mirrored front view
   uint64_t seed = 0;    // frame t samples with seed + t
+  int samples = 1;      // the side view is the mean of this many samples
 };
 
 // The side view [1, 1, h, w] of `frame`; `front` and `nextFront` are that frame's and the next one's front

@@ -21,7 +21,7 @@ struct ReconstructArguments {
   std::string input, out, models, frames, camera, framing, intensity = "auto", background = "level", sideView = "synthesize", sideViews;
   std::string preset = "small";
   float threshold = 0.02f, target = 0.9f;
-  reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start
+  reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start, --side-samples
   int inflowIterations = 40, polish = 0;
   double inflowLr = 0.005, inflowHeight = 0.25;
   bool noRefine = false, noProgressive = false, noVideos = false, resume = false, overwrite = false;

@@ -20,6 +20,10 @@ void addSideViewSamplingFlags(CLI::App& command, reconstruct::SideViewOptions& o
                      "DDIM start step: -1 samples from pure noise (the paper), lower from the mirrored front view noised "
                      "to that step (default " + std::to_string(options.start) + "; docs/reconstruction.md)")
       ->check(wholeNumber(-1, 100000));
+  command.add_option("--side-samples", options.samples,
+                     "the side view is the mean of this many DDIM samples (default " + std::to_string(options.samples) +
+                         "; docs/reconstruction.md)")
+      ->check(wholeNumber(1, 1000));
 }
 
 }  // namespace smokesvd::cli

@@ -3,6 +3,7 @@
 // equivalence, the stage order, and bad inputs.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 
 #include "nets/io/file_io.h"
@@ -199,6 +200,33 @@ TEST_F(ReconstructTest, GivenSideViewsAreTheSideViews) {
     FAIL() << "2 side views for 3 frames were accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("2 side views for 3 front views"), std::string::npos) << e.what();
+  }
+}
+
+// Frames 0 and 1 come from SvDiff-init, conditioned on the front views alone: with two samples their side
+// view is the mean of the side views of two one-sample runs whose seeds differ by 2^32.
+TEST_F(ReconstructTest, SideSamplesAreTheMeanOfSeparateSamples) {
+  auto sides = [&](const std::string& name, uint64_t seed, int samples) {
+    reconstruct::ReconstructOptions o = quickOptions(tinyScratch(name));
+    o.input.count = 2;
+    o.videos = false;
+    o.sideView.seed = seed;
+    o.sideView.samples = samples;
+    EXPECT_TRUE(reconstruct::runReconstruction(context(), o).complete) << name;
+    std::vector<std::vector<float>> images;
+    for (int t = 0; t < 2; ++t) images.push_back(media::readPng(o.out / "side" / (sim::frameName(t) + ".png")).values);
+    return images;
+  };
+  const auto first = sides("side_samples_first", 5, 1), second = sides("side_samples_second", 5 + (uint64_t{1} << 32), 1);
+  const auto mean = sides("side_samples_mean", 5, 2);
+  for (int t = 0; t < 2; ++t) {
+    ASSERT_EQ(mean[t].size(), first[t].size());
+    double spread = 0;
+    for (std::size_t i = 0; i < mean[t].size(); ++i) {
+      ASSERT_NEAR(mean[t][i], 0.5f * (first[t][i] + second[t][i]), 1.5f / 65535) << "frame " << t << ", pixel " << i;
+      spread += std::abs(first[t][i] - second[t][i]);
+    }
+    EXPECT_GT(spread, 0) << "frame " << t << ": the two seeds gave the same sample";
   }
 }
 
