@@ -14,14 +14,21 @@ SCENES=${SCENES:-120}
 SEED=${SEED:-1000}
 
 "$SMOKESVD" simulate --scenes "$SCENES" --seed "$SEED" --preset "$PRESET" --out "$DATA"
+STAGES=${STAGES:-train/$PRESET}  # runs that a shipped network starts from; not shipped
+# run NETWORK OUT [FLAGS]: trains NETWORK into OUT unless it is there
+run() {
+  local network=$1 out=$2
+  shift 2
+  if [ -f "$out/model.safetensors" ]; then
+    echo "$out: trained"
+  else
+    "$SMOKESVD" train "$network" --data "$DATA" --models "$MODELS" --out "$out" --resume "$@"
+  fi
+}
 train() {
   local network=$1
   shift
-  if [ -f "$MODELS/$network/model.safetensors" ]; then
-    echo "$MODELS/$network: trained"
-  else
-    "$SMOKESVD" train "$network" --data "$DATA" --preset "$PRESET" --models "$MODELS" --out "$MODELS/$network" --resume "$@"
-  fi
+  run "$network" "$MODELS/$network" --preset "$PRESET" "$@"
 }
 # The shipped small weights of gu and svdiff were trained for fewer steps than their configs say
 # (docs/models.md, "Training"); SHIPPED_STEPS=0 trains every network for its config's steps.
@@ -31,7 +38,17 @@ shortened() {
 train grho-coarse
 train grho-fine --init "$MODELS/grho-coarse/model.safetensors"
 train gu $(shortened 2500)
-train nvref
+# The shipped small NvRef: trained with the true history, then twice on its own (docs/models.md, "NvRef and
+# its history").
+if [ "$PRESET" = small ]; then
+  run nvref "$STAGES/nvref-true-history" --preset small
+  run nvref "$STAGES/nvref-own-history-1" --config models/configs/small/nvref-own-history-1.json --seed 16 \
+    --init "$STAGES/nvref-true-history/model.safetensors"
+  run nvref "$MODELS/nvref" --config models/configs/small/nvref-own-history-2.json --seed 7 \
+    --init "$STAGES/nvref-own-history-1/model.safetensors"
+else
+  train nvref
+fi
 train svdiff-init
 train svdiff $(shortened 1200)
 # The shipped folder keeps what a user needs: each network's weights, config and model card, and the
