@@ -37,12 +37,6 @@ Var group(Tape& tape, const Var& images, int index, int n) {
   return fn::reshape(tape, fn::sliceChannels(tape, asChannels, index * n, (index + 1) * n), {n, 1, s[2], s[3]});
 }
 
-// An all-black image of x's shape (a constant).
-Var blackLike(Tape& tape, const Var& x) {
-  const std::vector<float> zeros(static_cast<std::size_t>(x->value.numel()), 0.0f);
-  return variable(Tensor::fromHost(tape.stream().context(), x->value.shape(), zeros));
-}
-
 Var sumOf(Tape& tape, const std::vector<Var>& terms) {
   Var sum;
   for (const Var& t : terms) sum = sum ? fn::add(tape, sum, t) : t;
@@ -71,6 +65,8 @@ NvRefTrainer::Batch::Batch(Context& context, const Preset& p, int n) : views(n) 
   side[networks::kSideSlot] = 1.0f;
   sideOnly = variable(Tensor::fromHost(context, {networks::kSlots}, side));
   usePrevious = variable(Tensor(context, {n}));
+  const Shape images{n, 1, p.imageHeight, p.imageWidth};
+  black = variable(Tensor::fromHost(context, images, std::vector<float>(static_cast<std::size_t>(numElements(images)), 0.0f)));
 }
 
 NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& config, const dataset::SceneDataset& data,
@@ -211,7 +207,7 @@ LossTerms NvRefTrainer::record(Tape& tape, int variant) {
   weighted("l1", weights_.l1, fn::l1Loss(tape, images.refined, images.truth));
   weighted("mean_residual", weights_.meanResidual, fn::meanResidualSquared(tape, images.residual));
   weighted("row_sum", weights_.rowSum, fn::rowSumLoss(tape, images.refined, images.truth));
-  const Var reference = psnrAgainstBlack_ ? blackLike(tape, images.render) : images.render;
+  const Var reference = psnrAgainstBlack_ ? batch_.black : images.render;
   weighted("psnr_gap", weights_.psnrGap, fn::psnrGapLoss(tape, images.refined, images.truth, reference));
   std::vector<Var> all;
   for (const auto& [name, term] : terms.terms) all.push_back(term);

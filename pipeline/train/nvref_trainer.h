@@ -64,6 +64,7 @@ class NvRefTrainer : public StageTrainer {
     Var known, usePrevious;     // [16] the slots known at the stage; [N] 0 where the render stands in for history
     Var knownWithoutSide;       // [16] known, less the side slot (mirrored side only)
     Var sideOnly;               // [16] 1 at the side slot, 0 elsewhere (constant)
+    Var black;                  // [N, 1, h, w] zeros: the PSNR term's reference with psnr_reference "black"
     bool mirroredSide = false;  // this sample's side slot holds the mirrored front view
   };
   int upload(Batch& batch, const dataset::SceneEntry& scene, int frame, const Augmentation& a, int stage,
