@@ -13,7 +13,7 @@ std::unique_ptr<StageTrainer> makeTrainer(Context& context, const networks::Netw
   switch (config.network) {
     case networks::Network::GrhoCoarse:
     case networks::Network::GrhoFine:
-      return std::make_unique<GrhoTrainer>(context, config, data);
+      return std::make_unique<GrhoTrainer>(context, config, data, models);
     case networks::Network::NvRef:
       return std::make_unique<NvRefTrainer>(context, config, data, models);
     case networks::Network::Gu:

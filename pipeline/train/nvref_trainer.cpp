@@ -146,7 +146,7 @@ int NvRefTrainer::prepare(int64_t, diffusion::Gaussian& random) {
   std::vector<float> usePrevious;
   for (int i = 0; i < kBatch; ++i) usePrevious.push_back(random.uniform() < 0.1 ? 0.0f : 1.0f);
   const bool mirroredSide = mirroredSide_ > 0 && random.uniform() < mirroredSide_;
-  return upload(batch_, *draw.scene, draw.frame, a, stage, slots, usePrevious, mirroredSide);
+  return upload(batch_, *draw.scene, draw.frame, a, stage, slots, usePrevious, mirroredSide) + (mirroredSide ? 2 : 0);
 }
 
 // The coarse G_rho's density of `volume` from the views known at the batch's stage; the side slot's view
@@ -198,7 +198,9 @@ NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const rende
 }
 
 LossTerms NvRefTrainer::record(Tape& tape, int variant) {
-  const Images images = forward(tape, batch_, look_.settings(variant == 1));
+  // The side view decides which kernels the recording holds, so it is part of the variant.
+  batch_.mirroredSide = variant >= 2;
+  const Images images = forward(tape, batch_, look_.settings(variant % 2 == 1));
   LossTerms terms;
   auto weighted = [&](const char* name, double weight, const Var& loss) {
     terms.terms.emplace_back(name, fn::scale(tape, loss, static_cast<float>(weight)));

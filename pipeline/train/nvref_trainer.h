@@ -42,7 +42,8 @@ class NvRefTrainer : public StageTrainer {
                const std::filesystem::path& models);
 
   modules::Module& model() override { return refiner_.net(); }
-  std::vector<std::string> variants() const override { return {"unlit", "lit"}; }
+  // The look (unlit, lit) times the side view of the coarse density (true, mirrored front view).
+  std::vector<std::string> variants() const override { return {"unlit", "lit", "unlit-mirrored-side", "lit-mirrored-side"}; }
   int prepare(int64_t step, diffusion::Gaussian& random) override;
   LossTerms record(Tape& tape, int variant) override;
   std::vector<Metric> validate() override;

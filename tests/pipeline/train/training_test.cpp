@@ -3,8 +3,11 @@
 // seed gives the same weights, and bad inputs are clear errors.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <memory>
 
 #include "nets/io/safetensors.h"
 #include "pipeline/dataset/scene_dataset.h"
@@ -167,6 +170,92 @@ TEST_F(TrainingTest, NvRefTrainsOnTheMirroredSideViewAndItsOwnHistory) {
     EXPECT_NE(std::string(e.what()).find("'psnr_reference' must be \"render\" or \"black\", not \"truth\""),
               std::string::npos)
         << e.what();
+  }
+}
+
+// A training step is recorded once per variant and resubmitted on every later sample of that variant, so
+// whatever decides the recorded kernels (the look, the side view, the kind of input views) must be part
+// of the variant: the resubmitted recording must give the loss that a fresh recording of the same sample
+// gives. Checked on trainers whose samples mix kinds.
+void expectRecordingsFollowTheirSamples(const networks::NetworkConfig& config, int kinds) {
+  dataset::DatasetOptions options;
+  options.validationEvery = 4;
+  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  const auto trainer = train::makeTrainer(testContext(), config, data, tinyModels());
+  struct Recorded {
+    explicit Recorded(Context& context) : stream(context), tape(stream) {}
+    Stream stream;
+    Tape tape;
+    train::LossTerms terms;
+  };
+  std::map<int, std::unique_ptr<Recorded>> recordings;
+  int resubmitted = 0;
+  for (int64_t step = 0; step < 24; ++step) {
+    diffusion::Gaussian random = train::stepRandom(3, step);
+    const int variant = trainer->prepare(step, random);
+    ASSERT_LT(variant, static_cast<int>(trainer->variants().size()));
+    auto& recorded = recordings[variant];
+    if (!recorded) {
+      recorded = std::make_unique<Recorded>(testContext());
+      recorded->terms = trainer->record(recorded->tape, variant);
+      continue;
+    }
+    recorded->stream.submit();
+    const float again = recorded->terms.total->value.download()[0];
+    Recorded fresh(testContext());
+    fresh.terms = trainer->record(fresh.tape, variant);
+    fresh.stream.submit();
+    const float expected = fresh.terms.total->value.download()[0];
+    EXPECT_NEAR(again, expected, 1e-4 * std::abs(expected) + 1e-7)
+        << networks::networkName(config.network) << " step " << step << ", variant " << trainer->variants()[static_cast<std::size_t>(variant)];
+    ++resubmitted;
+  }
+  EXPECT_GE(static_cast<int>(recordings.size()), kinds) << "the samples did not mix the kinds";
+  EXPECT_GT(resubmitted, 0);
+}
+
+TEST_F(TrainingTest, ARecordedStepResubmittedOnAnotherSampleGivesThatSamplesLoss) {
+  networks::NetworkConfig nvref = tinyConfig(networks::Network::NvRef, 3);
+  nvref.options["mirrored_side"] = 0.5;
+  expectRecordingsFollowTheirSamples(nvref, 2);
+  networks::NetworkConfig fine = tinyConfig(networks::Network::GrhoFine, 3);
+  fine.options["inference_views"] = 0.7;
+  fine.options["mirrored_side"] = 0.5;
+  fine.options["coarse_model"] = "grho-coarse";
+  expectRecordingsFollowTheirSamples(fine, 3);
+}
+
+// The fine G_rho trained on the views the reconstruction gives it (the coarse G_rho's renders at the 14
+// other slots): it trains, and validation says what it gains over the coarse density it was given.
+TEST_F(TrainingTest, FineDensityTrainsOnInferenceLikeViews) {
+  networks::NetworkConfig config = tinyConfig(networks::Network::GrhoFine, 3);
+  config.options["inference_views"] = 0.5;
+  config.options["mirrored_side"] = 0.5;
+  config.options["coarse_model"] = "grho-coarse";
+  const fs::path out = scratch("grho_inference_views") / "grho-fine";
+  EXPECT_TRUE(trainTiny(config, out, -1, false, tinyModels()).complete);
+  std::ifstream csv(out / "validation.csv");
+  std::string header, row;
+  ASSERT_TRUE(std::getline(csv, header) && std::getline(csv, row));
+  for (const char* column : {"psnr_all_views,", "psnr_novel_inference,", "psnr_novel_coarse,", "psnr_gain_inference,",
+                             "psnr_novel_inference_mirrored,", "psnr_gain_inference_mirrored"})
+    EXPECT_NE(header.find(column), std::string::npos) << column << " in " << header;
+  EXPECT_EQ(row.find("nan"), std::string::npos) << row;
+  networks::NetworkConfig coarse = tinyConfig(networks::Network::GrhoCoarse, 3);
+  coarse.options["inference_views"] = 0.5;
+  coarse.options["coarse_model"] = "grho-coarse";
+  try {
+    trainTiny(coarse, scratch("grho_inference_views_coarse") / "grho-coarse", -1, false, tinyModels());
+    FAIL() << "inference-like views were accepted for the coarse G_rho";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("belong to the fine G_rho"), std::string::npos) << e.what();
+  }
+  config.options.erase("coarse_model");
+  try {
+    trainTiny(config, scratch("grho_inference_views_no_coarse") / "grho-fine", -1, false, tinyModels());
+    FAIL() << "inference-like views were accepted without a coarse model";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'coarse_model': \"grho-coarse\""), std::string::npos) << e.what();
   }
 }
 
