@@ -113,9 +113,9 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const networ
       optim::LrSchedule::cosine(t.lr, std::max<int64_t>(1, t.steps - t.warmup), t.lr * t.minLrFraction, t.warmup);
   optim::Adam adam(context, parameters, optim::AdamOptions::adamW(schedule, t.weightDecay));
   optim::GradClip clip(context, t.clip);
-  optim::Ema ema(context, parameters, t.ema);
-
+  // The EMA's shadows start as copies of the weights the run starts from, so they are made after --init.
   if (!options.initWeights.empty()) modules::loadWeights(options.initWeights, model);
+  optim::Ema ema(context, parameters, t.ema);
   int64_t start = 0;
   double secondsBefore = 0;
   if (options.resume && fs::exists(checkpointPath)) {

@@ -294,6 +294,31 @@ TEST(TrainingInputs, BadDataAndConfigsAreClearErrors) {
       Error);
 }
 
+// The EMA of a run started from --init weights starts from those weights, not from the random ones they
+// replace: with a learning rate too small to move anything, the run ends with the weights it began with.
+TEST_F(TrainingTest, ARunFromInitialWeightsAveragesFromThem) {
+  const fs::path& models = tinyModels();
+  networks::NetworkConfig config = tinyConfig(networks::Network::GrhoFine, 4);
+  config.train.lr = 1e-12;
+  config.train.warmup = 0;
+  dataset::DatasetOptions options;
+  options.validationEvery = 4;
+  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  const auto trainer = train::makeTrainer(testContext(), config, data, models);
+  train::TrainingOptions o;
+  o.out = scratch("from_init") / "grho-fine";
+  o.quiet = true;
+  o.initWeights = models / "grho-fine" / "model.safetensors";
+  ASSERT_TRUE(train::runTraining(testContext(), *trainer, config, o).complete);
+  const auto start = weightsOf(models / "grho-fine"), end = weightsOf(o.out);
+  ASSERT_EQ(start.size(), end.size());
+  for (std::size_t i = 0; i < start.size(); ++i) {
+    ASSERT_EQ(start[i].values.size(), end[i].values.size()) << start[i].name;
+    for (std::size_t k = 0; k < start[i].values.size(); ++k)
+      ASSERT_NEAR(end[i].values[k], start[i].values[k], 1e-6f + 1e-5f * std::abs(start[i].values[k])) << start[i].name << "[" << k << "]";
+  }
+}
+
 TEST_F(TrainingTest, WeightsOfAnotherArchitectureNameEveryDifference) {
   const fs::path& models = tinyModels();
   // A G_u checkpoint given as the initial weights of G_rho: the error lists the tensors that differ.
