@@ -51,6 +51,16 @@ else
 fi
 train svdiff-init
 train svdiff $(shortened 1200)
+# The shipped small fine G_rho: the run above (all 16 true views, which gu fine-tuned on), continued on the
+# views the reconstruction gives it (docs/models.md, "The fine G_rho and the views it is given"); its model
+# card describes both runs.
+if [ "$PRESET" = small ]; then
+  run grho-fine "$STAGES/grho-fine-inference-views" --config models/configs/small/grho-fine-inference-views.json \
+    --init "$MODELS/grho-fine/model.safetensors"
+  for file in model.safetensors config.json loss.csv loss.png validation.csv run.json; do
+    cp "$STAGES/grho-fine-inference-views/$file" "$MODELS/grho-fine/$file"
+  done
+fi
 # The shipped folder keeps what a user needs: each network's weights, config and model card, and the
 # loss curve; the logs stay beside them.
 for network in grho-coarse grho-fine gu nvref svdiff-init svdiff; do
