@@ -53,6 +53,8 @@ GrhoTrainer::GrhoTrainer(Context& context, const networks::NetworkConfig& config
   extraViewProbability_ = networks::number(config.options, "extra_view_probability", optionsWhere);
   inferenceViews_ = optionalProbability(config.options, "inference_views", optionsWhere);
   mirroredSide_ = optionalProbability(config.options, "mirrored_side", optionsWhere);
+  if (mirroredSide_ > 0 && inferenceViews_ == 0)
+    throw Error(optionsWhere + ": 'mirrored_side' is a share of the inference-like samples and needs 'inference_views' > 0");
   if (inferenceViews_ > 0 || config.options.contains("coarse_model")) {
     if (!fine_) throw Error(optionsWhere + ": 'inference_views' and 'coarse_model' belong to the fine G_rho (views \"fine\")");
     if (!config.options.contains("coarse_model") || networks::text(config.options, "coarse_model", optionsWhere) != "grho-coarse")

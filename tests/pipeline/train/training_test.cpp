@@ -250,6 +250,14 @@ TEST_F(TrainingTest, FineDensityTrainsOnInferenceLikeViews) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("belong to the fine G_rho"), std::string::npos) << e.what();
   }
+  networks::NetworkConfig sideAlone = tinyConfig(networks::Network::GrhoFine, 3);
+  sideAlone.options["mirrored_side"] = 0.5;
+  try {
+    trainTiny(sideAlone, scratch("grho_mirrored_side_alone") / "grho-fine", -1, false, tinyModels());
+    FAIL() << "mirrored_side was accepted without inference_views";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("needs 'inference_views'"), std::string::npos) << e.what();
+  }
   config.options.erase("coarse_model");
   try {
     trainTiny(config, scratch("grho_inference_views_no_coarse") / "grho-fine", -1, false, tinyModels());
