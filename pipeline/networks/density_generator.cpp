@@ -2,7 +2,9 @@
 
 #include "nets/functional/broadcast.h"
 #include "nets/functional/concat.h"
+#include "nets/models/model_json.h"
 #include "pipeline/differentiable/render.h"
+#include "pipeline/networks/trained_model.h"
 #include "pipeline/networks/view_slots.h"
 #include "runtime/error.h"
 
@@ -35,6 +37,16 @@ DensityOutput DensityGenerator::forward(Tape& tape, const Var& images, const Var
   DensityOutput result{fn::reshape(tape, out.output, volume), {}};
   for (const Var& head : out.supervision) result.supervision.push_back(fn::reshape(tape, head, volume));
   return result;
+}
+
+std::unique_ptr<DensityGenerator> loadFrozenDensityGenerator(Context& context, const std::filesystem::path& models,
+                                                             Network network, const Preset& preset) {
+  const TrainedModel trained = findTrainedModel(models, network, preset);
+  auto generator = std::make_unique<DensityGenerator>(
+      context, models::unet3PlusFromJson(trained.config.model, trained.config.source + " [model]"), preset);
+  loadTrainedWeights(trained, generator->net());
+  freeze(generator->net());
+  return generator;
 }
 
 }  // namespace smokesvd::networks

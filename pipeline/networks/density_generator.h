@@ -5,9 +5,11 @@
 //   density [D, H, W] = UNet3+(lift(images) [1, 16, D, H, W], presence [1, 16])
 #pragma once
 
+#include <filesystem>
 #include <memory>
 
 #include "nets/models/unet3plus.h"
+#include "pipeline/networks/network_config.h"
 #include "pipeline/preset.h"
 #include "pipeline/render/view_set.h"
 
@@ -37,5 +39,10 @@ class DensityGenerator {
   render::ViewSet views_;
   GridSize grid_;
 };
+
+// The trained `network` (grho-coarse or grho-fine) of the folder `models` (trained_model.h), loaded and
+// frozen: the density generator a trainer makes its inputs or guidance through.
+std::unique_ptr<DensityGenerator> loadFrozenDensityGenerator(Context& context, const std::filesystem::path& models,
+                                                             Network network, const Preset& preset);
 
 }  // namespace smokesvd::networks

@@ -8,7 +8,6 @@
 #include "nets/models/model_json.h"
 #include "nets/modules/flop_counter.h"
 #include "pipeline/differentiable/render.h"
-#include "pipeline/networks/trained_model.h"
 #include "pipeline/networks/view_slots.h"
 #include "pipeline/train/sample_draw.h"
 #include "pipeline/train/view_losses.h"
@@ -59,11 +58,7 @@ GrhoTrainer::GrhoTrainer(Context& context, const networks::NetworkConfig& config
     if (!fine_) throw Error(optionsWhere + ": 'inference_views' and 'coarse_model' belong to the fine G_rho (views \"fine\")");
     if (!config.options.contains("coarse_model") || networks::text(config.options, "coarse_model", optionsWhere) != "grho-coarse")
       throw Error(optionsWhere + ": inference-like views need 'coarse_model': \"grho-coarse\"");
-    const networks::TrainedModel trained = networks::findTrainedModel(models, networks::Network::GrhoCoarse, data.preset());
-    coarse_ = std::make_unique<networks::DensityGenerator>(
-        context, models::unet3PlusFromJson(trained.config.model, trained.config.source + " [model]"), data.preset());
-    networks::loadTrainedWeights(trained, coarse_->net());
-    networks::freeze(coarse_->net());
+    coarse_ = networks::loadFrozenDensityGenerator(context, models, networks::Network::GrhoCoarse, data.preset());
   }
   const Preset& p = data.preset();
   density_ = variable(Tensor(context, {p.grid.z, p.grid.y, p.grid.x}));

@@ -8,7 +8,6 @@
 #include "nets/modules/flop_counter.h"
 #include "pipeline/differentiable/physics.h"
 #include "pipeline/differentiable/render.h"
-#include "pipeline/networks/trained_model.h"
 #include "pipeline/networks/view_slots.h"
 #include "pipeline/train/view_losses.h"
 #include "runtime/error.h"
@@ -47,11 +46,7 @@ GuTrainer::GuTrainer(Context& context, const networks::NetworkConfig& config, co
   if (finetuneSteps_ > 0) {
     if (networks::text(config.options, "finetune_on", optionsWhere) != "grho-fine")
       throw Error(optionsWhere + ": 'finetune_on' must be \"grho-fine\"");
-    const networks::TrainedModel trained = networks::findTrainedModel(models, networks::Network::GrhoFine, p);
-    grho_ = std::make_unique<networks::DensityGenerator>(
-        context, models::unet3PlusFromJson(trained.config.model, trained.config.source + " [model]"), p);
-    networks::loadTrainedWeights(trained, grho_->net());
-    networks::freeze(grho_->net());
+    grho_ = networks::loadFrozenDensityGenerator(context, models, networks::Network::GrhoFine, p);
   }
   for (const dataset::SceneEntry& s : data.training())
     if (s.scene.stepsPerFrame != 1 || s.scene.dt != 1.0 || s.scene.advection != data.training()[0].scene.advection)

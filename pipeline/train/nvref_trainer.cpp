@@ -8,7 +8,6 @@
 #include "nets/models/model_json.h"
 #include "nets/modules/flop_counter.h"
 #include "pipeline/differentiable/render.h"
-#include "pipeline/networks/trained_model.h"
 #include "pipeline/networks/view_slots.h"
 #include "pipeline/train/view_losses.h"
 #include "runtime/error.h"
@@ -98,11 +97,7 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
   }
   if (networks::text(config.options, "coarse_model", optionsWhere) != "grho-coarse")
     throw Error(optionsWhere + ": 'coarse_model' must be \"grho-coarse\"");
-  const networks::TrainedModel trained = networks::findTrainedModel(models, networks::Network::GrhoCoarse, data.preset());
-  coarse_ = std::make_unique<networks::DensityGenerator>(
-      context, models::unet3PlusFromJson(trained.config.model, trained.config.source + " [model]"), data.preset());
-  networks::loadTrainedWeights(trained, coarse_->net());
-  networks::freeze(coarse_->net());
+  coarse_ = networks::loadFrozenDensityGenerator(context, models, networks::Network::GrhoCoarse, data.preset());
   refiner_.net().initialize(0x6e76);
 }
 

@@ -79,11 +79,7 @@ SvDiffTrainer::SvDiffTrainer(Context& context, const networks::NetworkConfig& co
       throw Error(optionsWhere + ": 'coarse_model' must be \"grho-coarse\"");
   }
   if (!initial) {
-    const networks::TrainedModel coarse = networks::findTrainedModel(models, networks::Network::GrhoCoarse, p);
-    coarse_ = std::make_unique<networks::DensityGenerator>(
-        context, models::unet3PlusFromJson(coarse.config.model, coarse.config.source + " [model]"), p);
-    networks::loadTrainedWeights(coarse, coarse_->net());
-    networks::freeze(coarse_->net());
+    coarse_ = networks::loadFrozenDensityGenerator(context, models, networks::Network::GrhoCoarse, p);
     if (guidance_ && weights_.velocity > 0) {
       if (networks::text(config.options, "velocity_model", optionsWhere) != "gu")
         throw Error(optionsWhere + ": 'velocity_model' must be \"gu\"");
