@@ -73,6 +73,17 @@ void expectSameWeights(const fs::path& a, const fs::path& b) {
 
 class TrainingTest : public GpuTest {};
 
+// Training `config` (into a scratch run `run`, with the tiny models) is refused with an Error holding `fragment`.
+void expectRefused(const networks::NetworkConfig& config, const std::string& run, const std::string& fragment,
+                   const std::string& what) {
+  try {
+    trainTiny(config, scratch(run) / networks::networkName(config.network), -1, false, tinyModels());
+    FAIL() << what << " was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(TrainingTest, EveryNetworkTrainsAndWritesItsFiles) {
   const fs::path& models = tinyModels();
   for (const auto n : networks::allNetworks()) {
@@ -154,23 +165,12 @@ TEST_F(TrainingTest, NvRefTrainsOnTheMirroredSideViewAndItsOwnHistory) {
   EXPECT_THROW(trainTiny(config, scratch("nvref_bad") / "nvref", -1, false, tinyModels()), Error);
   config.options["mirrored_side"] = 0.5;
   config.options["history"] = "oracle";
-  try {
-    trainTiny(config, scratch("nvref_bad_history") / "nvref", -1, false, tinyModels());
-    FAIL() << "an unknown history was accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("'history' must be \"truth\", \"coarse\" or \"self\", not \"oracle\""), std::string::npos)
-        << e.what();
-  }
+  expectRefused(config, "nvref_bad_history", "'history' must be \"truth\", \"coarse\" or \"self\", not \"oracle\"",
+                "an unknown history");
   config.options["history"] = "self";
   config.options["psnr_reference"] = "truth";
-  try {
-    trainTiny(config, scratch("nvref_bad_reference") / "nvref", -1, false, tinyModels());
-    FAIL() << "an unknown PSNR reference was accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("'psnr_reference' must be \"render\" or \"black\", not \"truth\""),
-              std::string::npos)
-        << e.what();
-  }
+  expectRefused(config, "nvref_bad_reference", "'psnr_reference' must be \"render\" or \"black\", not \"truth\"",
+                "an unknown PSNR reference");
 }
 
 // A training step is recorded once per variant and resubmitted on every later sample of that variant, so
@@ -244,27 +244,13 @@ TEST_F(TrainingTest, FineDensityTrainsOnInferenceLikeViews) {
   networks::NetworkConfig coarse = tinyConfig(networks::Network::GrhoCoarse, 3);
   coarse.options["inference_views"] = 0.5;
   coarse.options["coarse_model"] = "grho-coarse";
-  try {
-    trainTiny(coarse, scratch("grho_inference_views_coarse") / "grho-coarse", -1, false, tinyModels());
-    FAIL() << "inference-like views were accepted for the coarse G_rho";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("belong to the fine G_rho"), std::string::npos) << e.what();
-  }
+  expectRefused(coarse, "grho_inference_views_coarse", "belong to the fine G_rho", "inference-like views for the coarse G_rho");
   networks::NetworkConfig sideAlone = tinyConfig(networks::Network::GrhoFine, 3);
   sideAlone.options["mirrored_side"] = 0.5;
-  try {
-    trainTiny(sideAlone, scratch("grho_mirrored_side_alone") / "grho-fine", -1, false, tinyModels());
-    FAIL() << "mirrored_side was accepted without inference_views";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("needs 'inference_views'"), std::string::npos) << e.what();
-  }
+  expectRefused(sideAlone, "grho_mirrored_side_alone", "needs 'inference_views'", "mirrored_side without inference_views");
   config.options.erase("coarse_model");
-  try {
-    trainTiny(config, scratch("grho_inference_views_no_coarse") / "grho-fine", -1, false, tinyModels());
-    FAIL() << "inference-like views were accepted without a coarse model";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("'coarse_model': \"grho-coarse\""), std::string::npos) << e.what();
-  }
+  expectRefused(config, "grho_inference_views_no_coarse", "'coarse_model': \"grho-coarse\"",
+                "inference-like views without a coarse model");
 }
 
 TEST(TrainingInputs, BadDataAndConfigsAreClearErrors) {
