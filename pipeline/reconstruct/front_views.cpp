@@ -154,6 +154,24 @@ Region autoRegion(const std::vector<media::Image>& frames, double aspect, const 
   return fitAspect(0.5 * (xmin + xmax + 1), ymax + 1 + 0.04 * height, width, height, aspect);
 }
 
+// The mean of `image` over the rectangle of size w x h centred at (cx, cy) (pixel coordinates; pixels outside
+// the image are black), the rectangle widened to at least one source pixel on each side.
+float areaMean(const media::Image& image, double cx, double cy, double w, double h) {
+  const double fx = std::max(w, 1.0), fy = std::max(h, 1.0);
+  auto coverage = [](double a, double b, int n) {  // coverage of source cells [i, i+1) by [a, b)
+    std::vector<std::pair<int, double>> cells;
+    for (int i = static_cast<int>(std::floor(a)); i < static_cast<int>(std::ceil(b)); ++i) {
+      const double overlap = std::min(b, i + 1.0) - std::max(a, static_cast<double>(i));
+      if (overlap > 0 && i >= 0 && i < n) cells.emplace_back(i, overlap);
+    }
+    return cells;
+  };
+  double sum = 0;
+  for (const auto& [y, a] : coverage(cy - fy / 2, cy + fy / 2, image.height))
+    for (const auto& [x, b] : coverage(cx - fx / 2, cx + fx / 2, image.width)) sum += a * b * image.at(y, x);
+  return static_cast<float>(sum / (fx * fy));
+}
+
 }  // namespace
 
 Framing parseFraming(const std::string& text) {
@@ -183,28 +201,37 @@ Region calibratedRegion(const Camera& camera, const GridSize& grid, double aspec
 
 std::vector<float> resampleRegion(const media::Image& image, const Region& region, int width, int height) {
   const double sx = region.width / width, sy = region.height / height;
-  const double fx = std::max(sx, 1.0), fy = std::max(sy, 1.0);
-  auto weights = [](double a, double b, int n) {  // coverage of source cells [i, i+1) by [a, b)
-    std::vector<std::pair<int, double>> w;
-    for (int i = static_cast<int>(std::floor(a)); i < static_cast<int>(std::ceil(b)); ++i) {
-      const double overlap = std::min(b, i + 1.0) - std::max(a, static_cast<double>(i));
-      if (overlap > 0 && i >= 0 && i < n) w.emplace_back(i, overlap);
-    }
-    return w;
-  };
   std::vector<float> out(static_cast<std::size_t>(width * height), 0.0f);
-  for (int r = 0; r < height; ++r) {
-    const double cy = region.y0 + (r + 0.5) * sy;
-    const auto wy = weights(cy - fy / 2, cy + fy / 2, image.height);
-    for (int c = 0; c < width; ++c) {
-      const double cx = region.x0 + (c + 0.5) * sx;
-      const auto wx = weights(cx - fx / 2, cx + fx / 2, image.width);
-      double sum = 0;
-      for (const auto& [y, a] : wy)
-        for (const auto& [x, b] : wx) sum += a * b * image.at(y, x);
-      out[static_cast<std::size_t>(r * width + c)] = static_cast<float>(sum / (fx * fy));
+  for (int r = 0; r < height; ++r)
+    for (int c = 0; c < width; ++c)
+      out[static_cast<std::size_t>(r * width + c)] =
+          areaMean(image, region.x0 + (c + 0.5) * sx, region.y0 + (r + 0.5) * sy, sx, sy);
+  return out;
+}
+
+std::vector<float> rectifyToMidPlane(const media::Image& image, const Camera& source, const Camera& front, const GridSize& grid) {
+  const double plane = 0.5 * static_cast<double>(grid.z);
+  auto onPlane = [&](double u, double v) {  // the point of the mid-plane that front's pixel coordinates (u, v) see
+    const Ray ray = front.ray(u, v);
+    if (std::abs(ray.direction.z) < 1e-12) throw Error("rectifyToMidPlane: the front camera does not face the mid-plane");
+    const double t = (plane - ray.origin.z) / ray.direction.z;
+    const auto p = source.project(ray.origin + t * ray.direction);
+    if (!p) throw Error("calibration: the box's mid-plane lies behind the input camera");
+    return *p;
+  };
+  std::vector<float> out(static_cast<std::size_t>(front.width * front.height), 0.0f);
+  for (int r = 0; r < front.height; ++r)
+    for (int c = 0; c < front.width; ++c) {
+      double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+      for (const auto& [u, v] : {std::pair{c, r}, std::pair{c + 1, r}, std::pair{c, r + 1}, std::pair{c + 1, r + 1}}) {
+        const auto p = onPlane(u, v);
+        x0 = std::min(x0, p[0]);
+        x1 = std::max(x1, p[0]);
+        y0 = std::min(y0, p[1]);
+        y1 = std::max(y1, p[1]);
+      }
+      out[static_cast<std::size_t>(r * front.width + c)] = areaMean(image, 0.5 * (x0 + x1), 0.5 * (y0 + y1), x1 - x0, y1 - y0);
     }
-  }
   return out;
 }
 
@@ -242,7 +269,18 @@ FrontViews readFrontViews(const InputOptions& o, const Preset& preset) {
     }
   }
   for (const media::Image& frame : input.images)
-    views.frames.push_back(resampleRegion(frame, views.region, preset.imageWidth, preset.imageHeight));
+    views.inputFrames.push_back(resampleRegion(frame, views.region, preset.imageWidth, preset.imageHeight));
+  const Camera front = orbitCamera(0, preset.grid, preset.imageWidth, preset.imageHeight);
+  views.rectified = views.camera && !o.orthographic;
+  if (views.rectified) {
+    views.inputCamera = windowCamera(*views.camera, views.region.x0, views.region.y0, views.region.width,
+                                     views.region.height, preset.imageWidth, preset.imageHeight);
+    for (const media::Image& frame : input.images)
+      views.frames.push_back(rectifyToMidPlane(frame, *views.camera, front, preset.grid));
+  } else {
+    views.inputCamera = front;
+    views.frames = views.inputFrames;
+  }
   return views;
 }
 
@@ -253,7 +291,9 @@ nlohmann::json FrontViews::describe() const {
           {"intensity",
            {{"black", mapping.black}, {"gain", mapping.gain}, {"threshold", mapping.threshold},
             {"background", mapping.perPixelBackground ? "first frame, per pixel" : "level"},
-            {"formula", "w = clamp(max(0, (v - black) * gain - threshold) / (1 - threshold), 0, 1)"}}}};
+            {"formula", "w = clamp(max(0, (v - black) * gain - threshold) / (1 - threshold), 0, 1)"}}},
+          {"front_views", rectified ? "the footage rectified onto the box's mid-plane; fitted through the input camera"
+                                    : "the region as the orthographic front view"}};
 }
 
 }  // namespace smokesvd::reconstruct

@@ -9,6 +9,13 @@
 //      calibrated volume box (NeRF-style info.json) into the chosen camera's frames. The region keeps the
 //      preset's aspect ratio (pixels outside the frame are black) and is area-resampled to the preset's
 //      image size;
+//   2b. calibrated footage is filmed by a perspective camera, while the networks take an orthographic front
+//      view: the front view is the footage rectified onto the box's mid-plane z = D/2, each front-view pixel
+//      the area mean of the footage over the projection of that pixel's square on the plane (exact for smoke
+//      in the mid-plane, and the magnification of the near and far faces averages out across the depth).
+//      The crops as the camera saw them are kept beside it (inputFrames), with the camera over the crop
+//      (inputCamera), so that later stages fit the footage through its own camera. `orthographic` skips the
+//      rectification and takes the crop as the orthographic front view;
 //   3. intensity: w = max(0, (v - black) * gain - threshold) / (1 - threshold), clamped to 1, where the
 //      black level is the 2nd percentile of the clip (or the first frame, per pixel, with
 //      --background first) and the gain maps the clip's 99.9th percentile to `target` (0.9: how bright
@@ -44,6 +51,7 @@ struct InputOptions {
   Background background = Background::Level;
   float target = 0.9f;
   float threshold = 0.02f;
+  bool orthographic = false;          // calibrated input: the crop as the front view, not rectified
 };
 
 struct Region {
@@ -56,7 +64,10 @@ struct IntensityMapping {
 };
 
 struct FrontViews {
-  std::vector<std::vector<float>> frames;  // each imageHeight x imageWidth, row 0 at the top
+  std::vector<std::vector<float>> frames;       // the front views (slot 0), each imageHeight x imageWidth, row 0 at the top
+  std::vector<std::vector<float>> inputFrames;  // the crops as inputCamera saw them (equal to frames unless rectified)
+  Camera inputCamera;                           // the camera of inputFrames: the calibrated camera over the region, or slot 0
+  bool rectified = false;
   int sourceWidth = 0, sourceHeight = 0;
   double frameRate = 30;
   Region region;
@@ -80,5 +91,9 @@ Region calibratedRegion(const Camera& camera, const GridSize& grid, double aspec
 // area resampling of `region` of `image` to width x height (pixels outside the image are black): each output
 // pixel averages the source over its footprint, at least one source pixel wide.
 std::vector<float> resampleRegion(const media::Image& image, const Region& region, int width, int height);
+// the orthographic view `front` of the mid-plane z = D/2 of `grid`, from `image` filmed by `source` (at the
+// image's resolution): each pixel the area mean of the image over the bounding rectangle of the projection of
+// the pixel's square on the plane.
+std::vector<float> rectifyToMidPlane(const media::Image& image, const Camera& source, const Camera& front, const GridSize& grid);
 
 }  // namespace smokesvd::reconstruct

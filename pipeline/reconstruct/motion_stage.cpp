@@ -9,7 +9,6 @@
 #include "nets/optim/grad_clip.h"
 #include "pipeline/differentiable/physics.h"
 #include "pipeline/differentiable/render.h"
-#include "pipeline/networks/view_slots.h"
 #include "pipeline/reconstruct/inflow_mask.h"
 #include "runtime/error.h"
 #include "runtime/stream.h"
@@ -17,8 +16,8 @@
 namespace smokesvd::reconstruct {
 
 MotionResult advanceDensity(Context& context, MethodModels& models, const FrameState& state, int frame,
-                            const physics::FlagGrid& grid, const Tensor& target, const Tensor& front,
-                            const render::RenderSettings& look, const physics::AdvectionParams& advection,
+                            const physics::FlagGrid& grid, const Tensor& target, const Tensor& input,
+                            const render::ViewSet& inputView, const render::RenderSettings& look, const physics::AdvectionParams& advection,
                             const MotionOptions& options) {
   MotionResult result;
   const Preset& preset = models.coarse->preset();
@@ -60,12 +59,11 @@ MotionResult advanceDensity(Context& context, MethodModels& models, const FrameS
     optim::GradClip clip(context, 1.0);
     Stream stream(context);
     Tape tape(stream);
-    const render::ViewSet frontView = render::uploadViews(context, std::vector<Camera>{networks::orbitCameraAt(preset, 0)});
     const Var masked = fn::mul(tape, inflow, variable(mask));
     const Var estimate = fn::add(tape, variable(advected), masked);
     const Var loss = fn::add(
         tape, fn::add(tape, fn::mseLoss(tape, estimate, variable(target)),
-                      fn::scale(tape, fn::mseLoss(tape, diff::render(tape, estimate, frontView, look), variable(front.reshaped({1, 1, preset.imageHeight, preset.imageWidth}))),
+                      fn::scale(tape, fn::mseLoss(tape, diff::render(tape, estimate, inputView, look), variable(input.reshaped({1, 1, preset.imageHeight, preset.imageWidth}))),
                                 static_cast<float>(options.imageWeight))),
         fn::scale(tape, fn::mseLoss(tape, masked, previous), static_cast<float>(options.smoothWeight)));
     tape.backward(loss);

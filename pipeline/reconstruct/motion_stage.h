@@ -1,8 +1,10 @@
 // Stages 4 to 6, the motion from frame t-1 to t (supplement C.5, C.6): the velocity
 //   u_t-1 = G_u(rho^_t-1, rho_t)                     rho^ the output (advected) density, rho_t the fine G_rho's
 // and the inflow of frame t, optimised by AdamW on the paper's L_s, warm-started from the previous inflow:
-//   L_s = ||rho_t - (a + m in)||^2 + l_img ||w_t - R(a + m in, 0)||^2 + l_s ||m in - in_t-1||^2,
+//   L_s = ||rho_t - (a + m in)||^2 + l_img ||w_in - R_in(a + m in)||^2 + l_s ||m in - in_t-1||^2,
 //   a = A(rho^_t-1, u_t-1)                           MacCormack, the simulator's boundaries
+// w_in is the input as its camera saw it and R_in the render through that camera (the calibrated perspective
+// camera over the crop for calibrated footage, else the front view, slot 0);
 // m zeroes the inflow above a height (a fraction of the box) and on the outer cell layer; the result is
 // clamped to be non-negative. The output density is then exactly what the simulator's relation gives:
 //   rho^_t = A(rho^_t-1, u_t-1) + in_t
@@ -16,6 +18,7 @@
 #include "pipeline/reconstruct/frame_state.h"
 #include "pipeline/reconstruct/method_models.h"
 #include "pipeline/render/renderer.h"
+#include "pipeline/render/view_set.h"
 
 namespace smokesvd::reconstruct {
 
@@ -34,8 +37,8 @@ struct MotionResult {
 };
 
 MotionResult advanceDensity(Context& context, MethodModels& models, const FrameState& state, int frame,
-                            const physics::FlagGrid& grid, const Tensor& target, const Tensor& front,
-                            const render::RenderSettings& look, const physics::AdvectionParams& advection,
+                            const physics::FlagGrid& grid, const Tensor& target, const Tensor& input,
+                            const render::ViewSet& inputView, const render::RenderSettings& look, const physics::AdvectionParams& advection,
                             const MotionOptions& options);
 
 }  // namespace smokesvd::reconstruct

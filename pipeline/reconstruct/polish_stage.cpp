@@ -1,5 +1,6 @@
 #include "pipeline/reconstruct/polish_stage.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "nets/functional/activation.h"
@@ -17,9 +18,21 @@
 #include "runtime/stream.h"
 
 namespace smokesvd::reconstruct {
+namespace {
+
+// The view-slot targets with slot 0 replaced by the input as its camera saw it.
+Tensor targetsWithInput(Context& context, const Tensor& views, const Tensor& input) {
+  std::vector<float> values = views.download();
+  const std::vector<float> front = input.download();
+  std::copy(front.begin(), front.end(), values.begin() + static_cast<std::ptrdiff_t>(networks::kFrontSlot * front.size()));
+  return Tensor::fromHost(context, views.shape(), values);
+}
+
+}  // namespace
 
 void polishMotion(Context& context, const FrameState& state, int frame, const physics::FlagGrid& grid,
-                  const render::ViewSet& slotViews, const Tensor& views, const render::RenderSettings& look,
+                  const render::ViewSet& slotViews, const Tensor& views, const Tensor& input,
+                  const render::RenderSettings& look,
                   const physics::AdvectionParams& advection, const MotionOptions& motionOptions,
                   const PolishOptions& options, MotionResult& motion) {
   if (options.steps <= 0) return;
@@ -51,7 +64,8 @@ void polishMotion(Context& context, const FrameState& state, int frame, const ph
     return diff::advect(t, grid, variable(state.density), velocity, in, advection);
   };
   const Var rho = density(tape);
-  Var loss = train::weightedViewMse(tape, diff::render(tape, rho, slotViews, look), variable(views), sqrtWeights);
+  Var loss = train::weightedViewMse(tape, diff::render(tape, rho, slotViews, look),
+                                       variable(targetsWithInput(context, views, input)), sqrtWeights);
   if (velocity) {
     const Var divergence = diff::divergence(tape, velocity, physics::Staggering::Mac);
     loss = fn::add(tape, loss,

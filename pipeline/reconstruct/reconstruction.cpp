@@ -9,6 +9,7 @@
 #include "pipeline/media/image.h"
 #include "pipeline/networks/view_slots.h"
 #include "pipeline/progress.h"
+#include "pipeline/render/view_set.h"
 #include "pipeline/reconstruct/run_outputs.h"
 #include "pipeline/sim/domain.h"
 #include "pipeline/sim/outputs.h"
@@ -53,6 +54,7 @@ nlohmann::json signature(const ReconstructOptions& o, const MethodModels& models
           {"background", in.background == Background::First ? "first" : "level"},
           {"target", in.target},
           {"threshold", in.threshold},
+          {"orthographic", in.orthographic},
           {"preset", o.preset},
           {"models", models.hashes},
           {"side_view",
@@ -181,9 +183,16 @@ ReconstructResult runReconstruction(Context& context, const ReconstructOptions& 
 
   const auto began = Clock::now();
   Progress progress(frames, state.framesDone, 1, o.quiet);
-  auto frontTensor = [&](int t) {
-    return Tensor::fromHost(context, {1, 1, preset.imageHeight, preset.imageWidth}, views.frames[static_cast<std::size_t>(t)]);
+  auto imageTensor = [&](const std::vector<std::vector<float>>& images, int t) {
+    return Tensor::fromHost(context, {1, 1, preset.imageHeight, preset.imageWidth}, images[static_cast<std::size_t>(t)]);
   };
+  // The input's own camera (motion_stage.h), and the polish's cameras: that camera at slot 0, the orbit slots else.
+  const render::ViewSet inputView = render::uploadViews(context, std::vector<Camera>{views.inputCamera});
+  const render::ViewSet polishViews = [&] {
+    std::vector<Camera> cameras = networks::slotCameras(preset);
+    cameras[networks::kFrontSlot] = views.inputCamera;
+    return render::uploadViews(context, cameras);
+  }();
   const physics::FlagGrid grid = [&] {
     Stream stream(context);
     physics::FlagGrid g(stream, flagsTensor);
@@ -193,8 +202,9 @@ ReconstructResult runReconstruction(Context& context, const ReconstructOptions& 
   std::vector<std::string> stageOrder;
   for (int t = state.framesDone; t < frames; ++t) {
     if (o.stopAfter >= 0 && result.framesThisCall >= o.stopAfter) break;
-    const Tensor front = frontTensor(t);
-    const Tensor nextFront = frontTensor(std::min(t + 1, frames - 1));
+    const Tensor front = imageTensor(views.frames, t);
+    const Tensor nextFront = imageTensor(views.frames, std::min(t + 1, frames - 1));
+    const Tensor input = imageTensor(views.inputFrames, t);
     auto timed = [&](const char* stage, auto&& work) {
       if (result.framesThisCall == 0) stageOrder.push_back(stage);
       const auto start = Clock::now();
@@ -210,15 +220,15 @@ ReconstructResult runReconstruction(Context& context, const ReconstructOptions& 
       return reconstructDensity(context, models, state, t, front, side, look, o.density);
     });
     MotionResult motion = timed("motion", [&] {
-      return advanceDensity(context, models, state, t, grid, density.density, front, look, advection, o.motion);
+      return advanceDensity(context, models, state, t, grid, density.density, input, inputView, look, advection, o.motion);
     });
     if (o.polish.steps > 0)
       timed("polish", [&] {
-        polishMotion(context, state, t, grid, models.coarse->views(), density.views, look, advection, o.motion, o.polish, motion);
+        polishMotion(context, state, t, grid, polishViews, density.views, input, look, advection, o.motion, o.polish, motion);
         return 0;
       });
     timed("write", [&] {
-      folder.writeFrame(t, motion.density, motion.inflow, density.views, side, front);
+      folder.writeFrame(t, motion.density, motion.inflow, density.views, side, input);
       if (motion.velocity.defined()) folder.writeVelocity(t - 1, motion.velocity);
       if (t == frames - 1) folder.writeVelocity(t, motion.velocity.defined() ? motion.velocity : Tensor());
       Stream stream(context);

@@ -3,8 +3,10 @@
 //   OUT/scene.json                 the box: resolution, boundaries, the look to render the result with
 //   OUT/flags.npz                  the cells' flags (walls, open top), as the simulator writes them
 //   OUT/fields/{density,velocity,inflow}_NNNN.npz
-//   OUT/renders/view_VV/NNNN.png   the 16 views (0: the input, 8: the synthesised side, others refined)
-//   OUT/input/NNNN.png, OUT/side/NNNN.png
+//   OUT/renders/view_VV/NNNN.png   the 16 views (0: the front view, 8: the synthesised side, others refined)
+//   OUT/input/NNNN.png             the input as its camera saw it (for calibrated footage the crop, before
+//                                  rectification; view_00 is the rectified front view)
+//   OUT/side/NNNN.png
 //   OUT/input.mp4, side.mp4, orbit.mp4, contact.png   (when the run is complete)
 //   OUT/run.json                   preset, model hashes, device, options, input mapping, stage times
 //   OUT/checkpoint.npz             while a run is in progress (--resume continues at the next frame)

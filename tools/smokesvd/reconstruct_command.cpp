@@ -24,7 +24,7 @@ struct ReconstructArguments {
   reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start, --side-samples
   int inflowIterations = 40, polish = 0;
   double inflowLr = 0.005, inflowHeight = 0.25;
-  bool noRefine = false, noProgressive = false, noVideos = false, resume = false, overwrite = false;
+  bool noRefine = false, noProgressive = false, noVideos = false, resume = false, overwrite = false, orthographicInput = false;
 };
 
 void parseFrames(const std::string& text, reconstruct::InputOptions& in) {
@@ -64,6 +64,9 @@ void runReconstruct(const GlobalOptions& global, const ReconstructArguments& a) 
     if (!a.framing.empty() && a.framing != "calibrated")
       throw Error("--camera crops the calibrated box; it cannot be combined with --framing " + a.framing);
     o.input.framing = reconstruct::Framing::Calibrated;
+    o.input.orthographic = a.orthographicInput;
+  } else if (a.orthographicInput) {
+    throw Error("--orthographic-input concerns calibrated footage; it needs --camera info.json[:VIDEO]");
   } else if (!a.framing.empty()) {
     o.input.framing = reconstruct::parseFraming(a.framing);
     if (o.input.framing == reconstruct::Framing::Calibrated) throw Error("--framing calibrated needs --camera info.json[:VIDEO]");
@@ -103,6 +106,9 @@ void addReconstructCommand(CLI::App& app, const GlobalOptions& global, Action& a
   c->add_option("--preset", a.preset, "small (default) or paper: sizes of the reconstruction and its networks");
   c->add_option("--frames", a.frames, "A:B, frames A to B-1 of the input (A: to the end)");
   c->add_option("--camera", a.camera, "info.json[:VIDEO]: calibrated footage; crops the calibrated box's projection");
+  c->add_flag("--orthographic-input", a.orthographicInput,
+              "with --camera: take the crop as the orthographic front view, neither rectified onto the box's mid-plane "
+              "nor fitted through the perspective camera (a baseline)");
   c->add_option("--framing", a.framing, "box (the whole frame is the box's front view) or auto (find the smoke; default)");
   c->add_option("--intensity", a.intensity, "auto (default), none, or a gain: how input values map to the networks' units");
   c->add_option("--background", a.background, "level (default: one black level) or first (frame 0 per pixel)");
