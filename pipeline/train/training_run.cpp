@@ -15,6 +15,7 @@
 #include "nets/optim/grad_clip.h"
 #include "pipeline/train/loss_log.h"
 #include "pipeline/train/loss_plot.h"
+#include "pipeline/train/training_step.h"
 #include "pipeline/progress.h"
 #include "runtime/error.h"
 
@@ -134,12 +135,7 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const networ
     auto& slot = recordings.at(static_cast<std::size_t>(variant));
     if (!slot) {
       slot = std::make_unique<Recording>(context);
-      clearGradients(parameters);
-      slot->terms = trainer.record(slot->tape, variant);
-      slot->tape.backward(slot->terms.total);
-      clip.record(slot->stream, parameters);
-      adam.step(slot->stream, &clip);
-      ema.update(slot->stream);
+      slot->terms = recordTrainingStep(slot->tape, trainer, variant, parameters, {adam, clip, ema});
     }
     return *slot;
   };

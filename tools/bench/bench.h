@@ -38,6 +38,7 @@ struct Measurement {
   uint64_t heldBytesWithoutReuse = 0;
   uint64_t poolPeakBytes = 0;
   std::vector<ProfileLine> profile;  // slowest shaders first (with --profile)
+  std::string notRun;                // why it was not measured (the device cannot hold it); empty if it was
   double gbPerSecond() const { return bytes > 0 && medianNs > 0 ? bytes / medianNs : 0; }
   double gflopPerSecond() const { return flops > 0 && medianNs > 0 ? flops / medianNs : 0; }
   double gflopPerCpuSecond() const { return flops > 0 && medianCpuNs > 0 ? flops / medianCpuNs : 0; }

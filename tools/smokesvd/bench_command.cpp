@@ -60,6 +60,10 @@ void printProfiles(const std::vector<bench::Measurement>& results) {
 void printTable(const std::vector<bench::Measurement>& results, const bench::DeviceReference& reference) {
   std::printf("%-36s %-36s %12s %9s %6s %9s %6s\n", "kernel", "shape", "median", "GB/s", "%copy", "GFLOP/s", "%peak");
   for (const bench::Measurement& m : results) {
+    if (!m.notRun.empty()) {
+      std::printf("%-36s not run: %s\n", m.name.c_str(), m.notRun.c_str());
+      continue;
+    }
     std::printf("%-36s %-36s %9.1f us %9s %6s %9s %6s\n", m.name.c_str(), m.shape.c_str(), m.medianNs / 1000.0,
                 figure(m.gbPerSecond()).c_str(), figure(percent(m.gbPerSecond(), reference.bandwidthGbps), "%.0f").c_str(),
                 figure(m.gflopPerSecond()).c_str(),
@@ -111,7 +115,8 @@ Results runPasses(Context& context, const std::vector<const bench::Benchmark*>& 
       }
       std::vector<bench::Measurement>& kept = results.groups[b];
       for (std::size_t m = 0; m < group.size() && m < kept.size(); ++m)
-        if (group[m].medianNs < kept[m].medianNs) kept[m] = group[m];
+        if (group[m].notRun.empty() && (!kept[m].notRun.empty() || group[m].medianNs < kept[m].medianNs))
+          kept[m] = group[m];
     }
     if (args.reference) results.reference = best(results.reference, bench::measureDeviceReference(context, args.options));
     if (!args.json && args.passes > 1) std::fprintf(stderr, "bench: pass %d of %d done\n", pass + 1, args.passes);
@@ -130,6 +135,7 @@ void printJson(const Context& context, const Results& results) {
                            {"gflop_per_s", m.gflopPerSecond()},
                            {"percent_of_copy", percent(m.gbPerSecond(), reference.bandwidthGbps)},
                            {"percent_of_peak", percent(m.gflopPerSecond(), reference.peakGflops)}};
+      if (!m.notRun.empty()) entry["not_run"] = m.notRun;
       if (m.heldBytes > 0) {
         entry["held_bytes"] = m.heldBytes;
         entry["held_bytes_without_reuse"] = m.heldBytesWithoutReuse;

@@ -23,5 +23,27 @@ TEST(BenchTrain, ReportsTheMemoryOfTheRecordedStepWithAndWithoutReuse) {
   EXPECT_LT(reused.at("pool_peak_bytes").get<double>(), 0.5 * plain.at("pool_peak_bytes").get<double>());
 }
 
+// A network's training-step benchmark times each variant of its trainer's step (here G_u's on true and on
+// G_rho densities) with its memory, and counts three forwards of the network as the step's FLOPs.
+TEST(BenchTrain, TimesEachVariantOfANetworksTrainingStep) {
+  const CommandResult result = runSmokesvd("bench train/gu/tiny --json --runs 1 --warmup 0 --no-reference");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const nlohmann::json results = nlohmann::json::parse(result.out).at("results");
+  ASSERT_GE(results.size(), 2u) << result.out;
+  bool truth = false, grho = false;
+  for (const nlohmann::json& r : results) {
+    const std::string name = r.at("kernel");
+    ASSERT_EQ(name.rfind("train/gu/tiny:", 0), 0u) << result.out;
+    EXPECT_FALSE(r.contains("not_run")) << result.out;
+    truth = truth || name.find(":truth-") != std::string::npos;
+    grho = grho || name.find(":grho-") != std::string::npos;
+    EXPECT_GT(r.at("median_ns").get<double>(), 0) << name;
+    EXPECT_GT(r.at("held_bytes").get<double>(), 0) << name;
+    EXPECT_GE(r.at("pool_peak_bytes").get<double>(), r.at("held_bytes").get<double>()) << name;
+    EXPECT_NEAR(r.at("flops").get<double>(), 3 * 0.0152e9, 3 * 0.0001e9) << name;
+  }
+  EXPECT_TRUE(truth && grho) << result.out;
+}
+
 }  // namespace
 }  // namespace smokesvd::testing

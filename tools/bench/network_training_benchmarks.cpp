@@ -1,0 +1,200 @@
+// Training-step benchmarks of the method's networks, `train/<network>/<preset>` for the six networks at
+// the tiny, small and paper presets: the step `smokesvd train` records (the trainer's sample, forward,
+// renders and losses, backward, clip, AdamW, EMA; pipeline/train/training_step.h), batch as the
+// preset's built-in config says, each variant the trainer records (lit or unlit look, a guided or an
+// unguided diffusion step, true or G_rho densities) measured on its own.
+//
+// The data are two scenes simulated at the preset into a scratch folder (one for training, one held
+// out), the networks a trainer runs frozen (G_rho for NvRef and SvDiff, G_u for SvDiff's guidance, the
+// fine G_rho for G_u's fine-tuning) are trained one step there first: the step's cost depends on their
+// architectures, not on their weights. FLOPs count the trained network alone, three times its forward
+// (the forward, the backward to the inputs and to the weights, modules::FlopCounter); the frozen networks,
+// renders and advection a step also runs are in its time but not in its FLOPs, so %peak understates such
+// a step. A step is long, so each is timed over 1 warm-up and at most 5 runs. Where the device cannot hold
+// a step (a tensor past its buffer limit, memory exhausted) the line says so instead of a time.
+#include <unistd.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "nets/optim/adam.h"
+#include "nets/optim/ema.h"
+#include "nets/optim/grad_clip.h"
+#include "nets/optim/schedule.h"
+#include "pipeline/dataset/scene_dataset.h"
+#include "pipeline/networks/network_config.h"
+#include "pipeline/preset.h"
+#include "pipeline/sim/random_scene.h"
+#include "pipeline/sim/run.h"
+#include "pipeline/train/make_trainer.h"
+#include "pipeline/train/training_run.h"
+#include "pipeline/train/training_step.h"
+#include "runtime/error.h"
+#include "tools/bench/bench.h"
+
+namespace smokesvd::bench {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kSceneFrames = 10;
+constexpr int kValidationEvery = 2;  // of the two scenes, the second is held out
+constexpr int64_t kProbedSteps = 48;  // variants are looked for among the first and the last steps of a config
+
+// A folder under the system's temporary directory, removed with everything in it when the program ends.
+class ScratchFolder {
+ public:
+  ScratchFolder() {
+    std::string pattern = (fs::temp_directory_path() / "smokesvd-bench-XXXXXX").string();
+    if (!::mkdtemp(pattern.data())) throw Error(pattern + ": cannot create a scratch folder");
+    path_ = pattern;
+  }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+networks::NetworkConfig benchConfig(const std::string& presetName, networks::Network network) {
+  networks::NetworkConfig config = networks::defaultNetworkConfig(presetName, network);
+  config.data.validationEvery = kValidationEvery;
+  config.train.validationSamples = 1;
+  return config;
+}
+
+// The scenes and frozen networks of one preset, made the first time a benchmark of that preset asks.
+class PresetScratch {
+ public:
+  PresetScratch(Context& context, const std::string& presetName) : preset_(preset(presetName)) {
+    for (int i = 0; i < 2; ++i) {
+      sim::Scene scene = sim::randomScene(7100 + static_cast<uint64_t>(i), preset_.grid, kSceneFrames);
+      scene.render.enabled = false;
+      sim::runScene(context, scene, folder_.path() / "data" / ("scene_000" + std::to_string(i)), {.render = false});
+    }
+    dataset::DatasetOptions options;
+    options.validationEvery = kValidationEvery;
+    data_ = std::make_unique<dataset::SceneDataset>(folder_.path() / "data", preset_, options);
+    for (const networks::Network frozen : {networks::Network::GrhoCoarse, networks::Network::GrhoFine, networks::Network::Gu}) {
+      networks::NetworkConfig config = benchConfig(presetName, frozen);
+      config.train.steps = 1;
+      config.train.warmup = 0;
+      config.train.logEvery = config.train.checkpointEvery = config.train.validateEvery = 1;
+      if (config.options.contains("finetune_steps")) config.options["finetune_steps"] = 0;
+      const auto trainer = train::makeTrainer(context, config, *data_, models());
+      train::TrainingOptions run;
+      run.out = models() / networks::networkName(frozen);
+      run.quiet = true;
+      train::runTraining(context, *trainer, config, run);
+    }
+  }
+  const dataset::SceneDataset& data() const { return *data_; }
+  fs::path models() const { return folder_.path() / "models"; }
+
+ private:
+  const Preset& preset_;
+  ScratchFolder folder_;
+  std::unique_ptr<dataset::SceneDataset> data_;
+};
+
+// The scratch of `presetName`, made once; a preset the device cannot simulate or train is not retried.
+PresetScratch& scratch(Context& context, const std::string& presetName) {
+  static std::map<std::string, std::unique_ptr<PresetScratch>> made;
+  static std::map<std::string, std::string> failed;
+  if (failed.count(presetName)) throw Error(failed.at(presetName));
+  auto& slot = made[presetName];
+  if (!slot) {
+    try {
+      slot = std::make_unique<PresetScratch>(context, presetName);
+    } catch (const Error& error) {
+      failed[presetName] = std::string("preparing the ") + presetName + " scenes and frozen networks: " + error.what();
+      throw Error(failed.at(presetName));
+    }
+  }
+  return *slot;
+}
+
+// Shorter timing for the duration of a benchmark: a training step is long, so 1 warm-up and at most 5 runs.
+class StepTiming {
+ public:
+  explicit StepTiming(BenchContext& b) : b_(b), given_(b.options()) {
+    b.setOptions({.warmup = std::min(given_.warmup, 1), .runs = std::min(given_.runs, 5), .profile = given_.profile});
+  }
+  ~StepTiming() { b_.setOptions(given_); }
+  StepTiming(const StepTiming&) = delete;
+  StepTiming& operator=(const StepTiming&) = delete;
+
+ private:
+  BenchContext& b_;
+  BenchOptions given_;
+};
+
+void notRun(BenchContext& b, const std::string& name, const std::string& why) {
+  Measurement m;
+  m.name = name;
+  m.shape = "-";
+  m.notRun = why;
+  b.add(std::move(m));
+}
+
+// Every variant of the trainer's step, each after the sample of the first probed step that asks for it.
+void measureNetwork(BenchContext& b, networks::Network network, const std::string& presetName) {
+  const std::string base = "train/" + networks::networkName(network) + "/" + presetName;
+  Context& context = b.context();
+  try {
+    const networks::NetworkConfig config = benchConfig(presetName, network);
+    PresetScratch& s = scratch(context, presetName);
+    const auto trainer = train::makeTrainer(context, config, s.data(), s.models());
+    const networks::TrainSettings& t = config.train;
+    const NamedParameters parameters = trainer->model().namedParameters();
+    const optim::LrSchedule schedule =
+        optim::LrSchedule::cosine(t.lr, std::max<int64_t>(1, t.steps - t.warmup), t.lr * t.minLrFraction, t.warmup);
+    const optim::Adam adam(context, parameters, optim::AdamOptions::adamW(schedule, t.weightDecay));
+    const optim::GradClip clip(context, t.clip);
+    const optim::Ema ema(context, parameters, t.ema);
+    const double flops = 3 * trainer->forwardFlops();
+    const std::string shape = "batch " + std::to_string(t.batch) + ", " + std::to_string(preset(presetName).grid.x) + "x" +
+                              std::to_string(preset(presetName).grid.y) + "x" + std::to_string(preset(presetName).grid.z);
+    const std::vector<std::string> variants = trainer->variants();
+    std::vector<bool> measured(variants.size(), false);
+    const StepTiming timing(b);
+    for (int64_t probe = 0; probe < 2 * kProbedSteps; ++probe) {
+      const int64_t step = probe < kProbedSteps ? probe : t.steps - 2 * kProbedSteps + probe;
+      if (step < 0 || step >= t.steps) continue;
+      diffusion::Gaussian random = train::stepRandom(0, step);
+      const int variant = trainer->prepare(step, random);
+      if (measured.at(static_cast<std::size_t>(variant))) continue;
+      measured[static_cast<std::size_t>(variant)] = true;
+      const std::string name = variants.size() == 1 ? base : base + ":" + variants[static_cast<std::size_t>(variant)];
+      b.measureStep(name, shape, flops, {}, [&](Stream& stream) {
+        Tape tape(stream);
+        train::recordTrainingStep(tape, *trainer, variant, parameters, {adam, clip, ema});
+      });
+    }
+  } catch (const Error& error) {
+    notRun(b, base, error.what());
+  } catch (const std::bad_alloc&) {
+    notRun(b, base, "out of host memory");
+  }
+}
+
+bool registerNetworks() {
+  for (const networks::Network network : networks::allNetworks())
+    for (const char* presetName : {"tiny", "small", "paper"}) {
+      const std::string name = "train/" + networks::networkName(network) + "/" + presetName;
+      registerBenchmark({name, [network, presetName](BenchContext& b) { measureNetwork(b, network, presetName); }});
+    }
+  return true;
+}
+
+const bool registered = registerNetworks();
+
+}  // namespace
+}  // namespace smokesvd::bench
