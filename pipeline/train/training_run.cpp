@@ -110,9 +110,7 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const networ
 
   modules::Module& model = trainer.model();
   const NamedParameters parameters = model.namedParameters();
-  const optim::LrSchedule schedule =
-      optim::LrSchedule::cosine(t.lr, std::max<int64_t>(1, t.steps - t.warmup), t.lr * t.minLrFraction, t.warmup);
-  optim::Adam adam(context, parameters, optim::AdamOptions::adamW(schedule, t.weightDecay));
+  optim::Adam adam(context, parameters, adamWOptions(t));
   optim::GradClip clip(context, t.clip);
   // The EMA's shadows start as copies of the weights the run starts from, so they are made after --init.
   if (!options.initWeights.empty()) modules::loadWeights(options.initWeights, model);
@@ -195,7 +193,7 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const networ
     std::snprintf(detail, sizeof detail, "loss %.3e", static_cast<double>(values[0]));
     progress.update(done, detail);
     if (done % t.logEvery == 0 || done == t.steps) {
-      std::vector<double> row{static_cast<double>(done), seconds(), schedule.at(step)};
+      std::vector<double> row{static_cast<double>(done), seconds(), adam.options().schedule.at(step)};
       for (const double s : sums) row.push_back(s / static_cast<double>(summed));
       losses.append(row);
       std::fill(sums.begin(), sums.end(), 0.0);

@@ -6,6 +6,7 @@
 #include "nets/optim/adam.h"
 #include "nets/optim/ema.h"
 #include "nets/optim/grad_clip.h"
+#include "pipeline/networks/network_config.h"
 #include "pipeline/train/trainer.h"
 
 namespace smokesvd::train {
@@ -16,6 +17,10 @@ struct StepOptimizer {
   const optim::GradClip& clip;
   const optim::Ema& ema;
 };
+
+// AdamW as a config's training settings ask: a cosine schedule from `lr` to `lr * minLrFraction` over the
+// steps after a linear warm-up, and the decoupled weight decay.
+optim::AdamOptions adamWOptions(const networks::TrainSettings& settings);
 
 // Clears the gradients of `parameters` (a recording computes its own), records variant `variant` of the
 // trainer's step onto `tape` and the update after it; returns the loss terms the recording writes.

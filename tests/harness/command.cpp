@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -23,7 +23,7 @@ std::string slurp(const std::filesystem::path& path) {
 }  // namespace
 
 CommandResult runSmokesvd(const std::string& arguments, const std::string& environment) {
-  const TempDir directory("cli");
+  const io::TemporaryFolder directory("cli");
   const auto out = directory / "stdout";
   const auto err = directory / "stderr";
   const std::string command = environment + " " + SMOKESVD_SMOKESVD_BINARY + " " + arguments + " >" + out.string() +

@@ -1,14 +1,14 @@
 #include "tests/harness/op_runner.h"
 
 #include "tests/harness/command.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 
 OpRun runOpCommand(const std::string& op, const std::map<std::string, io::NpyArray>& inputs,
                    const std::vector<std::string>& outputs, const std::vector<std::string>& attrs,
                    const std::string& globalFlags) {
-  const TempDir folder("op");
+  const io::TemporaryFolder folder("op");
   std::string arguments = (globalFlags.empty() ? "" : globalFlags + " ") + "op " + op;
   for (const auto& [name, array] : inputs) {
     const std::string file = folder.file("in-" + name + ".npy");

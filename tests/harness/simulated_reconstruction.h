@@ -12,24 +12,24 @@
 
 #include "runtime/context.h"
 #include "runtime/geometry.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 
 void writeSimulatedReconstruction(Context& context, const std::filesystem::path& folder, int frames,
                                   const GridSize& grid = {.x = 16, .y = 28, .z = 16});
 
-// The scratch folder of a test program that reads one such reconstruction: a TempDir named after
+// The scratch folder of a test program that reads one such reconstruction: an io::TemporaryFolder named after
 // `purpose`, with the reconstruction of `frames` frames in its "recon" subfolder, written (on the shared
 // test context) the first time reconstruction() is asked for.
 class SimulatedReconstructionScratch {
  public:
   SimulatedReconstructionScratch(const std::string& purpose, int frames);
-  const TempDir& root() const { return root_; }
+  const io::TemporaryFolder& root() const { return root_; }
   const std::filesystem::path& reconstruction();
 
  private:
-  TempDir root_;
+  io::TemporaryFolder root_;
   int frames_;
   bool written_ = false;
   std::filesystem::path reconstruction_;

@@ -16,7 +16,7 @@
 #include "pipeline/camera/calibration.h"
 #include "pipeline/sim/scene.h"
 #include "runtime/error.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -169,7 +169,7 @@ io::NpyArray smallArray() {
 
 class FuzzReaders : public ::testing::Test {
  protected:
-  TempDir folder_{"fuzz", TempDir::memoryBacked()};
+  io::TemporaryFolder folder_{"fuzz", io::TemporaryFolder::memoryBacked()};
 };
 
 TEST_F(FuzzReaders, Npy) {

@@ -15,7 +15,7 @@
 #include "pipeline/train/training_run.h"
 #include "runtime/error.h"
 #include "tests/harness/gpu_test.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -107,7 +107,7 @@ const fs::path& tinyModels() {
 }
 
 fs::path tinyScratch(const std::string& name) {
-  static const TempDir root("pipeline");
+  static const io::TemporaryFolder root("pipeline");
   const fs::path path = root / name;
   fs::remove_all(path);
   fs::create_directories(path);

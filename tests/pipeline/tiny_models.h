@@ -9,7 +9,7 @@ namespace smokesvd::testing {
 
 const std::filesystem::path& tinyDataset();  // scene_0000 .. scene_0003, 8 frames each, no renders
 const std::filesystem::path& tinyModels();   // <network>/{config.json, model.safetensors}
-// A fresh folder for one test inside this program's TempDir (removed first if it exists; all of them
+// A fresh folder for one test inside this program's temporary folder (removed first if it exists; all of them
 // when the program ends).
 std::filesystem::path tinyScratch(const std::string& name);
 

@@ -12,8 +12,6 @@
 // renders and advection a step also runs are in its time but not in its FLOPs, so %peak understates such
 // a step. A step is long, so each is timed over 1 warm-up and at most 5 runs. Where the device cannot hold
 // a step (a tensor past its buffer limit, memory exhausted) the line says so instead of a time.
-#include <unistd.h>
-
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -22,7 +20,7 @@
 #include "nets/optim/adam.h"
 #include "nets/optim/ema.h"
 #include "nets/optim/grad_clip.h"
-#include "nets/optim/schedule.h"
+#include "nets/io/temporary_folder.h"
 #include "pipeline/dataset/scene_dataset.h"
 #include "pipeline/networks/network_config.h"
 #include "pipeline/preset.h"
@@ -43,26 +41,6 @@ constexpr int kSceneFrames = 10;
 constexpr int kValidationEvery = 2;  // of the two scenes, the second is held out
 constexpr int64_t kProbedSteps = 48;  // variants are looked for among the first and the last steps of a config
 
-// A folder under the system's temporary directory, removed with everything in it when the program ends.
-class ScratchFolder {
- public:
-  ScratchFolder() {
-    std::string pattern = (fs::temp_directory_path() / "smokesvd-bench-XXXXXX").string();
-    if (!::mkdtemp(pattern.data())) throw Error(pattern + ": cannot create a scratch folder");
-    path_ = pattern;
-  }
-  ~ScratchFolder() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  ScratchFolder(const ScratchFolder&) = delete;
-  ScratchFolder& operator=(const ScratchFolder&) = delete;
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
 networks::NetworkConfig benchConfig(const std::string& presetName, networks::Network network) {
   networks::NetworkConfig config = networks::defaultNetworkConfig(presetName, network);
   config.data.validationEvery = kValidationEvery;
@@ -73,15 +51,16 @@ networks::NetworkConfig benchConfig(const std::string& presetName, networks::Net
 // The scenes and frozen networks of one preset, made the first time a benchmark of that preset asks.
 class PresetScratch {
  public:
-  PresetScratch(Context& context, const std::string& presetName) : preset_(preset(presetName)) {
+  PresetScratch(Context& context, const std::string& presetName) {
+    const Preset& scenePreset = preset(presetName);
     for (int i = 0; i < 2; ++i) {
-      sim::Scene scene = sim::randomScene(7100 + static_cast<uint64_t>(i), preset_.grid, kSceneFrames);
+      sim::Scene scene = sim::randomScene(7100 + static_cast<uint64_t>(i), scenePreset.grid, kSceneFrames);
       scene.render.enabled = false;
       sim::runScene(context, scene, folder_.path() / "data" / ("scene_000" + std::to_string(i)), {.render = false});
     }
     dataset::DatasetOptions options;
     options.validationEvery = kValidationEvery;
-    data_ = std::make_unique<dataset::SceneDataset>(folder_.path() / "data", preset_, options);
+    data_ = std::make_unique<dataset::SceneDataset>(folder_.path() / "data", scenePreset, options);
     for (const networks::Network frozen : {networks::Network::GrhoCoarse, networks::Network::GrhoFine, networks::Network::Gu}) {
       networks::NetworkConfig config = benchConfig(presetName, frozen);
       config.train.steps = 1;
@@ -99,8 +78,7 @@ class PresetScratch {
   fs::path models() const { return folder_.path() / "models"; }
 
  private:
-  const Preset& preset_;
-  ScratchFolder folder_;
+  io::TemporaryFolder folder_{"bench"};
   std::unique_ptr<dataset::SceneDataset> data_;
 };
 
@@ -154,14 +132,13 @@ void measureNetwork(BenchContext& b, networks::Network network, const std::strin
     const auto trainer = train::makeTrainer(context, config, s.data(), s.models());
     const networks::TrainSettings& t = config.train;
     const NamedParameters parameters = trainer->model().namedParameters();
-    const optim::LrSchedule schedule =
-        optim::LrSchedule::cosine(t.lr, std::max<int64_t>(1, t.steps - t.warmup), t.lr * t.minLrFraction, t.warmup);
-    const optim::Adam adam(context, parameters, optim::AdamOptions::adamW(schedule, t.weightDecay));
+    const optim::Adam adam(context, parameters, train::adamWOptions(t));
     const optim::GradClip clip(context, t.clip);
     const optim::Ema ema(context, parameters, t.ema);
     const double flops = 3 * trainer->forwardFlops();
-    const std::string shape = "batch " + std::to_string(t.batch) + ", " + std::to_string(preset(presetName).grid.x) + "x" +
-                              std::to_string(preset(presetName).grid.y) + "x" + std::to_string(preset(presetName).grid.z);
+    const GridSize grid = preset(presetName).grid;
+    const std::string shape = "batch " + std::to_string(t.batch) + ", " + std::to_string(grid.x) + "x" +
+                              std::to_string(grid.y) + "x" + std::to_string(grid.z);
     const std::vector<std::string> variants = trainer->variants();
     std::vector<bool> measured(variants.size(), false);
     const StepTiming timing(b);

@@ -10,7 +10,7 @@
 
 #include "nets/io/npy.h"
 #include "runtime/error.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 #include "tests/harness/test_data.h"
 
 namespace smokesvd::testing {
@@ -27,7 +27,7 @@ class NpyTest : public ::testing::Test {
     out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   }
 
-  TempDir directory_{"npy"};
+  io::TemporaryFolder directory_{"npy"};
 };
 
 TEST_F(NpyTest, RoundTripsFloatAndIntOfOddShapes) {

@@ -11,7 +11,7 @@
 #include "runtime/error.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -51,7 +51,7 @@ class SafetensorsTest : public ::testing::Test {
  protected:
   fs::path path(const std::string& name) const { return directory_ / name; }
 
-  TempDir directory_{"safetensors"};
+  io::TemporaryFolder directory_{"safetensors"};
 };
 
 TEST_F(SafetensorsTest, RoundTripsOddShapesAndMetadata) {

@@ -8,7 +8,7 @@
 #include <fstream>
 
 #include "nets/io/temporary_files.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -16,7 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 TEST(TemporaryFilesTest, ASignalRemovesTheTemporariesInFlightAndEndsTheProcessAsTheSignalWould) {
-  const TempDir folder("temporaries");
+  const io::TemporaryFolder folder("temporaries");
   const fs::path inFlight = folder / "density_0003.npz.tmp", finished = folder / "density_0002.npz.tmp";
   const fs::path kept = folder / "density_0002.npz";
   for (const fs::path& file : {inFlight, finished, kept}) std::ofstream(file) << "data";

@@ -15,7 +15,7 @@
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -48,7 +48,7 @@ class Head : public UnaryModule {
 
 class ModulesTest : public GpuTest {
  protected:
-  TempDir directory_{"modules"};
+  io::TemporaryFolder directory_{"modules"};
 };
 
 // The names torch gives: Head(nn.Module) with self.scale = nn.Parameter, self.body = nn.Sequential(

@@ -8,7 +8,7 @@
 #include "runtime/error.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -48,7 +48,7 @@ struct Trainer {
 
 class CheckpointTest : public GpuTest {
  protected:
-  TempDir directory_{"checkpoint"};
+  io::TemporaryFolder directory_{"checkpoint"};
 };
 
 // Training 3 steps, saving, and training 4 more equals loading that checkpoint into a fresh model and

@@ -7,7 +7,7 @@
 #include "pipeline/media/video.h"
 #include "pipeline/render/calibration_check.h"
 #include "runtime/error.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 #include "tests/harness/test_data.h"
 #include "tests/pipeline/render/scenes.h"
 
@@ -138,7 +138,7 @@ class CalibrationFileTest : public ::testing::Test {
     }
     return "";
   }
-  TempDir directory_{"calibration"};
+  io::TemporaryFolder directory_{"calibration"};
 };
 
 TEST_F(CalibrationFileTest, BadFilesNameTheFieldAndExpectation) {

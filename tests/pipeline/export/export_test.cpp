@@ -23,7 +23,7 @@
 #include "runtime/error.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/simulated_reconstruction.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 #if SMOKESVD_WITH_OPENVDB
 #include <openvdb/openvdb.h>
@@ -37,8 +37,8 @@ namespace fs = std::filesystem;
 constexpr int kFrames = 3;
 const GridSize kGrid{.x = 16, .y = 28, .z = 16};
 
-const TempDir& root() {
-  static const TempDir folder("export");
+const io::TemporaryFolder& root() {
+  static const io::TemporaryFolder folder("export");
   return folder;
 }
 

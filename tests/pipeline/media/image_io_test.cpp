@@ -8,7 +8,7 @@
 #include "pipeline/media/image.h"
 #include "pipeline/media/video.h"
 #include "runtime/error.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -27,7 +27,7 @@ class ImageIoTest : public ::testing::Test {
     return image;
   }
 
-  TempDir directory_{"image"};
+  io::TemporaryFolder directory_{"image"};
 };
 
 std::string errorOf(const std::function<void()>& f) {

@@ -9,7 +9,7 @@
 #include "nets/io/npy.h"
 #include "pipeline/camera/calibration.h"
 #include "pipeline/reconstruct/front_views.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 #include "tests/pipeline/render/scenes.h"
 
 namespace smokesvd::testing {
@@ -76,7 +76,7 @@ TEST(FrontViewsTest, TheRectifiedPerspectiveViewOfTheMidPlaneIsItsOrthographicVi
 
 TEST(FrontViewsTest, CalibratedFootageKeepsTheCamerasCropsBesideTheRectifiedViews) {
   const Preset& p = preset("tiny");
-  TempDir folder("front-views");
+  io::TemporaryFolder folder("front-views");
   // A box of 0.5 x 0.875 x 0.5 m, grid +z along world -z, filmed by a camera 1.2 m in front of it.
   std::ofstream(folder / "info.json") << R"({
     "train_videos": [{"file_name": "stack.npy", "camera_angle_x": 0.5, "camera_hw": [140, 80],

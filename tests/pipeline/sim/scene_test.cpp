@@ -9,7 +9,7 @@
 #include "pipeline/sim/random_scene.h"
 #include "pipeline/sim/scene.h"
 #include "runtime/error.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -17,9 +17,9 @@ namespace {
 namespace fs = std::filesystem;
 using sim::Scene;
 
-// A fresh folder `name` inside this program's TempDir (removed when the program ends).
+// A fresh folder `name` inside this program's temporary folder (removed when the program ends).
 fs::path scratchDirectory(const std::string& name) {
-  static const TempDir root("scene");
+  static const io::TemporaryFolder root("scene");
   const fs::path path = root / name;
   fs::remove_all(path);
   fs::create_directories(path);

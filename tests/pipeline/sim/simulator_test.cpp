@@ -17,7 +17,7 @@
 #include "runtime/error.h"
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 #include "tests/pipeline/physics/sim_reference.h"
 
 namespace smokesvd::testing {
@@ -25,9 +25,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh folder `name` inside this program's TempDir (removed when the program ends).
+// A fresh folder `name` inside this program's temporary folder (removed when the program ends).
 fs::path scratchDirectory(const std::string& name) {
-  static const TempDir root("simulator");
+  static const io::TemporaryFolder root("simulator");
   const fs::path path = root / name;
   fs::remove_all(path);
   fs::create_directories(path);

@@ -26,7 +26,7 @@
 #include "pipeline/preset.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::networks {
 
@@ -112,7 +112,7 @@ class PyTorchTwinTest : public GpuTest, public ::testing::WithParamInterface<Net
   // Writes config, weights and inputs, runs the twin and compares every expected output; the weights the
   // twin writes back (its state_dict) must load here strictly and equal the originals bit for bit.
   void compareWithTwin(modules::Module& net) {
-    const TempDir folder("twin");
+    const io::TemporaryFolder folder("twin");
     {
       std::ofstream config(folder / "config.json");
       config << networks::toJson(config_).dump(2);

@@ -11,7 +11,7 @@
 
 #include "nets/io/npy.h"
 #include "tests/harness/command.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -62,7 +62,7 @@ class BadInputTest : public ::testing::Test {
     std::ofstream(file) << R"({"resolution": [8, 12, 8], "frames": 2)" << extra << "}";
     return file;
   }
-  TempDir folder_{"bad-input"};
+  io::TemporaryFolder folder_{"bad-input"};
 };
 
 TEST_F(BadInputTest, CommandLineErrorsAreOneLineWithExitStatus2) {

@@ -9,7 +9,7 @@
 #include "tests/harness/command.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/simulated_reconstruction.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -20,7 +20,7 @@ SimulatedReconstructionScratch& scratch() {
   static SimulatedReconstructionScratch folder("export-cli", 2);
   return folder;
 }
-const TempDir& root() { return scratch().root(); }
+const io::TemporaryFolder& root() { return scratch().root(); }
 const fs::path& reconstruction() { return scratch().reconstruction(); }
 
 class ExportCli : public GpuTest {};

@@ -10,7 +10,7 @@
 #include "nets/io/npy.h"
 #include "tests/harness/command.h"
 #include "tests/harness/op_runner.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -47,7 +47,7 @@ TEST(OpCommand, AttributesAreParsedAndChecked) {
 }
 
 TEST(OpCommand, BadInputsAreOneLineErrors) {
-  const TempDir dir("op-command");
+  const io::TemporaryFolder dir("op-command");
   io::writeNpy(dir / "a.npy", kA);
   io::writeNpy(dir / "b.npy", kB);
   for (const std::string& arguments :
@@ -69,7 +69,7 @@ TEST(OpCommand, OversizedTensorIsAOneLineError) {
     if (device.at("chosen").get<bool>()) maxBytes = device.at("max_tensor_bytes").get<int64_t>();
   ASSERT_GT(maxBytes, 0) << info.out;
   const int64_t elements = maxBytes / 4 + 1;
-  const TempDir dir("op-command");
+  const io::TemporaryFolder dir("op-command");
   io::writeNpy(dir / "big.npy", io::NpyArray::fromFloats({elements}, std::vector<float>(elements, 1.0f)));
   const CommandResult result =
       runSmokesvd("op scale --attr alpha=2 --in x=" + dir.file("big.npy") + " --out y=" + dir.file("y.npy"));

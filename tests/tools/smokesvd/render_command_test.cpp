@@ -8,7 +8,7 @@
 #include "pipeline/media/video.h"
 #include "tests/harness/command.h"
 #include "tests/harness/random.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -18,7 +18,7 @@ namespace fs = std::filesystem;
 class RenderCommandTest : public ::testing::Test {
  protected:
   std::string path(const std::string& name) const { return (directory_ / name).string(); }
-  TempDir directory_{"render-cli"};
+  io::TemporaryFolder directory_{"render-cli"};
 };
 
 TEST_F(RenderCommandTest, RendersScalarFlowStyleNpzToPngs) {

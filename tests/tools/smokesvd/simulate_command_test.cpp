@@ -7,16 +7,16 @@
 #include "nets/io/npy.h"
 #include "pipeline/sim/scene.h"
 #include "tests/harness/command.h"
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh folder `name` inside this program's TempDir (removed when the program ends).
+// A fresh folder `name` inside this program's temporary folder (removed when the program ends).
 fs::path scratchDirectory(const std::string& name) {
-  static const TempDir root("simulate-cli");
+  static const io::TemporaryFolder root("simulate-cli");
   const fs::path path = root / name;
   fs::remove_all(path);
   fs::create_directories(path);

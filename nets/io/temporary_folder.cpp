@@ -1,34 +1,36 @@
-#include "tests/harness/temp_dir.h"
+#include "nets/io/temporary_folder.h"
 
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
-#include <stdexcept>
 #include <vector>
 
-namespace smokesvd::testing {
+#include "runtime/error.h"
 
-TempDir::TempDir(const std::string& purpose) : TempDir(purpose, std::filesystem::temp_directory_path()) {}
+namespace smokesvd::io {
 
-std::filesystem::path TempDir::memoryBacked() {
+TemporaryFolder::TemporaryFolder(const std::string& purpose)
+    : TemporaryFolder(purpose, std::filesystem::temp_directory_path()) {}
+
+std::filesystem::path TemporaryFolder::memoryBacked() {
   std::error_code error;
   if (std::filesystem::is_directory("/dev/shm", error) && ::access("/dev/shm", W_OK) == 0) return "/dev/shm";
   return std::filesystem::temp_directory_path();
 }
 
-TempDir::TempDir(const std::string& purpose, const std::filesystem::path& parent) {
+TemporaryFolder::TemporaryFolder(const std::string& purpose, const std::filesystem::path& parent) {
   const std::string pattern = (parent / ("smokesvd-" + purpose + "-XXXXXX")).string();
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');
   if (::mkdtemp(name.data()) == nullptr)
-    throw std::runtime_error("cannot create a temporary folder " + pattern + ": " + std::strerror(errno));
+    throw Error(pattern + ": cannot create a temporary folder: " + std::strerror(errno));
   path_ = name.data();
 }
 
-TempDir::~TempDir() {
+TemporaryFolder::~TemporaryFolder() {
   std::error_code ignored;
   std::filesystem::remove_all(path_, ignored);
 }
 
-}  // namespace smokesvd::testing
+}  // namespace smokesvd::io

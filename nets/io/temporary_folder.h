@@ -1,24 +1,24 @@
-// A fresh folder for one test's files, removed with everything in it when the object goes. Names are
-// unique (mkdtemp), so tests running at once -- in parallel ctest jobs or in two checkouts -- never
-// share one.
+// A fresh folder for scratch files, removed with everything in it when the object goes. Names are unique
+// (mkdtemp), so programs running at once -- parallel test jobs, two benchmarks, two checkouts -- never
+// share one. Used by the benchmarks' scratch scenes and by every test that writes files.
 #pragma once
 
 #include <filesystem>
 #include <string>
 
-namespace smokesvd::testing {
+namespace smokesvd::io {
 
-class TempDir {
+class TemporaryFolder {
  public:
   // Under the system's temporary directory, named smokesvd-<purpose>-XXXXXX.
-  explicit TempDir(const std::string& purpose = "test");
+  explicit TemporaryFolder(const std::string& purpose = "scratch");
   // Under `parent` instead.
-  TempDir(const std::string& purpose, const std::filesystem::path& parent);
+  TemporaryFolder(const std::string& purpose, const std::filesystem::path& parent);
   // /dev/shm where it exists (memory: thousands of small files in seconds), else the temporary directory.
   static std::filesystem::path memoryBacked();
-  ~TempDir();
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
+  ~TemporaryFolder();
+  TemporaryFolder(const TemporaryFolder&) = delete;
+  TemporaryFolder& operator=(const TemporaryFolder&) = delete;
 
   const std::filesystem::path& path() const { return path_; }
   std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
@@ -29,4 +29,4 @@ class TempDir {
   std::filesystem::path path_;
 };
 
-}  // namespace smokesvd::testing
+}  // namespace smokesvd::io
