@@ -22,7 +22,8 @@ struct ReconstructArguments {
   std::string preset = "small";
   float threshold = 0.02f, target = 0.9f;
   reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start, --side-samples
-  int inflowIterations = 40, polish = 0;
+  int inflowIterations = 40;
+  reconstruct::PolishOptions polish;  // --polish and its --polish-* weights
   double inflowLr = 0.005, inflowHeight = 0.25;
   bool noRefine = false, noProgressive = false, noVideos = false, resume = false, overwrite = false, orthographicInput = false;
 };
@@ -87,7 +88,7 @@ void runReconstruct(const GlobalOptions& global, const ReconstructArguments& a) 
   o.motion.inflowIterations = a.inflowIterations;
   o.motion.inflowLr = a.inflowLr;
   o.motion.inflowHeight = a.inflowHeight;
-  o.polish.steps = a.polish;
+  o.polish = a.polish;
   Context context(global.contextOptions());
   const reconstruct::ReconstructResult r = reconstruct::runReconstruction(context, o);
   if (r.complete && r.framesThisCall == 0)
@@ -126,8 +127,19 @@ void addReconstructCommand(CLI::App& app, const GlobalOptions& global, Action& a
   c->add_option("--inflow-lr", a.inflowLr, "learning rate of the inflow optimisation (default 0.005)")->check(positiveNumber(1e3));
   c->add_option("--inflow-height", a.inflowHeight, "the inflow is zero above this fraction of the box (default 0.25)")
       ->check(number(0, 1));
-  c->add_option("--polish", a.polish, "N optimisation steps per frame on velocity and inflow through the renderer (default 0)")
+  c->add_option("--polish", a.polish.steps, "N optimisation steps per frame on velocity and inflow through the renderer (default 0)")
       ->check(wholeNumber(0, 100000));
+  c->add_option("--polish-lr", a.polish.lr, "learning rate of the polish (default 0.02)")->check(positiveNumber(1e3));
+  c->add_option("--polish-input-weight", a.polish.inputWeight, "weight of the input view's error in the polish (default 1)")
+      ->check(number(0, 1e6));
+  c->add_option("--polish-view-weight", a.polish.viewWeight,
+                "weight of the other views' error against the refined views, over all of them (default 0.25)")
+      ->check(number(0, 1e6));
+  c->add_option("--polish-divergence-weight", a.polish.divergenceWeight, "weight of the velocity's mean squared divergence (default 1)")
+      ->check(number(0, 1e6));
+  c->add_option("--polish-prior-weight", a.polish.priorWeight,
+                "weight of the velocity's squared distance from G_u's (default 1)")
+      ->check(number(0, 1e6));
   c->add_flag("--no-videos", a.noVideos, "skip input/side/orbit mp4 and the contact sheet");
   c->add_flag("--resume", a.resume, "continue the run in --out at its first unfinished frame");
   c->add_flag("--overwrite", a.overwrite, "replace the reconstruction in --out");

@@ -65,6 +65,52 @@ std::vector<float> field(const fs::path& run, const std::string& name, int frame
   return io::readNpzMember(run / "fields" / (name + "_" + sim::frameName(frame) + ".npz"), name).toFloat();
 }
 
+// density[t] = A(density[t-1], velocity[t-1]) + inflow[t] in run `out`, recomputed from its files with the
+// advection kernel: bit for bit.
+void expectFieldsObeyTheAdvection(Context& context, const fs::path& out, int frames) {
+  const io::NpyArray flags = io::readNpzMember(out / "flags.npz", "flags");
+  const GridSize grid = preset("tiny").grid;
+  Stream stream(context);
+  const physics::FlagGrid flagGrid(stream, Tensor::fromHost(context, grid.volume(), flags.toFloat()));
+  stream.submit();
+  for (int t = 1; t < frames; ++t) {
+    const std::vector<float> interleaved = field(out, "velocity", t - 1);
+    std::vector<float> planar(interleaved.size());
+    const std::size_t cells = interleaved.size() / 3;
+    for (std::size_t c = 0; c < cells; ++c)
+      for (std::size_t a = 0; a < 3; ++a) planar[a * cells + c] = interleaved[3 * c + a];
+    const Tensor previous = Tensor::fromHost(context, grid.volume(), field(out, "density", t - 1));
+    const Tensor velocity = Tensor::fromHost(context, grid.vector(), planar);
+    const Tensor inflow = Tensor::fromHost(context, grid.volume(), field(out, "inflow", t));
+    const Tensor advected(context, grid.volume());
+    Stream s(context);
+    physics::advect(s, flagGrid, previous, velocity, &inflow, physics::AdvectionParams{}, advected);
+    s.submit();
+    const std::vector<float> expected = advected.download(), written = field(out, "density", t);
+    for (std::size_t i = 0; i < written.size(); ++i)
+      ASSERT_EQ(written[i], expected[i]) << "frame " << t << ", voxel " << i;
+  }
+}
+
+// Mean squared difference between the clip's frames and renders of run `out`'s densities through the clip's
+// camera and look, over frames 1 to frames-1.
+double inputViewError(Context& context, const fs::path& out, int frames) {
+  render::RenderSettings look;
+  look.absorption = preset("tiny").absorption;
+  const std::vector<Camera> front{networks::orbitCameraAt(preset("tiny"), 0)};
+  double sum = 0;
+  std::size_t count = 0;
+  for (int t = 1; t < frames; ++t) {
+    const media::Image input = media::readPng(clip() / (sim::frameName(t) + ".png"));
+    const Tensor density = Tensor::fromHost(context, preset("tiny").grid.volume(), field(out, "density", t));
+    const media::Image render = render::renderImages(context, density, front, look)[0];
+    EXPECT_EQ(input.values.size(), render.values.size());
+    for (std::size_t i = 0; i < std::min(input.values.size(), render.values.size()); ++i, ++count)
+      sum += (input.values[i] - render.values[i]) * (input.values[i] - render.values[i]);
+  }
+  return sum / static_cast<double>(count);
+}
+
 class ReconstructTest : public GpuTest {};
 
 TEST_F(ReconstructTest, WritesEveryOutputAndTheFieldsObeyTheAdvection) {
@@ -87,29 +133,7 @@ TEST_F(ReconstructTest, WritesEveryOutputAndTheFieldsObeyTheAdvection) {
     EXPECT_TRUE(fs::exists(out / f)) << f;
   EXPECT_FALSE(fs::exists(out / "checkpoint.npz"));
 
-  // density[t] = A(density[t-1], velocity[t-1]) + inflow[t], recomputed from the files with the advection kernel.
-  const io::NpyArray flags = io::readNpzMember(out / "flags.npz", "flags");
-  const GridSize grid = preset("tiny").grid;
-  Stream stream(context());
-  const physics::FlagGrid flagGrid(stream, Tensor::fromHost(context(), grid.volume(), flags.toFloat()));
-  stream.submit();
-  for (int t = 1; t < 6; ++t) {
-    const std::vector<float> interleaved = field(out, "velocity", t - 1);
-    std::vector<float> planar(interleaved.size());
-    const std::size_t cells = interleaved.size() / 3;
-    for (std::size_t c = 0; c < cells; ++c)
-      for (std::size_t a = 0; a < 3; ++a) planar[a * cells + c] = interleaved[3 * c + a];
-    const Tensor previous = Tensor::fromHost(context(), grid.volume(), field(out, "density", t - 1));
-    const Tensor velocity = Tensor::fromHost(context(), grid.vector(), planar);
-    const Tensor inflow = Tensor::fromHost(context(), grid.volume(), field(out, "inflow", t));
-    const Tensor advected(context(), grid.volume());
-    Stream s(context());
-    physics::advect(s, flagGrid, previous, velocity, &inflow, physics::AdvectionParams{}, advected);
-    s.submit();
-    const std::vector<float> expected = advected.download(), written = field(out, "density", t);
-    for (std::size_t i = 0; i < written.size(); ++i)
-      ASSERT_EQ(written[i], expected[i]) << "frame " << t << ", voxel " << i;
-  }
+  expectFieldsObeyTheAdvection(context(), out, 6);
   std::ifstream runFile(out / "run.json");
   const nlohmann::json run = nlohmann::json::parse(runFile);
   EXPECT_EQ(run["stage_order"], nlohmann::json({"side_view", "density", "motion", "write"}));
@@ -237,6 +261,31 @@ std::string errorOf(Context& context, const reconstruct::ReconstructOptions& o) 
     return e.what();
   }
   return "";
+}
+
+// --polish fits each frame's velocity and inflow to the input through the renderer: the input view is
+// matched more closely than without it, the fields still obey the advection bit for bit, and run.json
+// records every polish setting (a resumed run must agree with them).
+TEST_F(ReconstructTest, PolishMatchesTheInputBetterAndKeepsTheAdvection) {
+  constexpr int kFrames = 4;
+  const fs::path plain = tinyScratch("unpolished"), polished = tinyScratch("polished");
+  reconstruct::ReconstructOptions o = quickOptions(plain);
+  o.input.count = kFrames;
+  o.videos = false;
+  ASSERT_TRUE(reconstruct::runReconstruction(context(), o).complete);
+  o.out = polished;
+  o.polish.steps = 15;
+  o.polish.lr = 0.05;
+  o.polish.priorWeight = 0.5;
+  ASSERT_TRUE(reconstruct::runReconstruction(context(), o).complete);
+  expectFieldsObeyTheAdvection(context(), polished, kFrames);
+  const double before = inputViewError(context(), plain, kFrames), after = inputViewError(context(), polished, kFrames);
+  EXPECT_LT(after, before) << "input-view MSE without polish " << before << ", with it " << after;
+  std::ifstream runFile(polished / "run.json");
+  const nlohmann::json polish = nlohmann::json::parse(runFile)["signature"]["polish"];
+  EXPECT_EQ(polish["steps"], 15);
+  EXPECT_DOUBLE_EQ(polish["lr"].get<double>(), 0.05);
+  EXPECT_DOUBLE_EQ(polish["prior_weight"].get<double>(), 0.5);
 }
 
 TEST_F(ReconstructTest, BadInputsAreClearErrors) {

@@ -107,6 +107,9 @@ TEST_F(BadInputTest, CommandLineErrorsAreOneLineWithExitStatus2) {
            {"frobnicate", "unknown command 'frobnicate'", kBadCommandLine},
            {"train grho-coarse --data d --out o --steps 0", "--steps: expected a whole number", kBadCommandLine},
            {"reconstruct in.mp4 --out o --ddim-steps 0", "--ddim-steps: expected a whole number", kBadCommandLine},
+           {"reconstruct in.mp4 --out o --polish-lr 0", "--polish-lr: expected a number above 0", kBadCommandLine},
+           {"reconstruct in.mp4 --out o --polish-prior-weight -1", "--polish-prior-weight: expected a number from 0",
+            kBadCommandLine},
            {"reconstruct in.mp4 --out o --side-views s --side-view mirror",
             "--side-views gives the side views; it cannot be combined with --side-view mirror", kFailed},
        })
