@@ -1,7 +1,7 @@
 #include "tests/harness/op_runner.h"
 
-#include "tests/harness/command.h"
 #include "nets/io/temporary_folder.h"
+#include "tests/harness/command.h"
 
 namespace smokesvd::testing {
 

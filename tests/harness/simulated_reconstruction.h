@@ -10,9 +10,9 @@
 #include <filesystem>
 #include <string>
 
+#include "nets/io/temporary_folder.h"
 #include "runtime/context.h"
 #include "runtime/geometry.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 

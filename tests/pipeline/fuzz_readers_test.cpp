@@ -13,10 +13,10 @@
 #include "nets/io/file_io.h"
 #include "nets/io/npy.h"
 #include "nets/io/safetensors.h"
+#include "nets/io/temporary_folder.h"
 #include "pipeline/camera/calibration.h"
 #include "pipeline/sim/scene.h"
 #include "runtime/error.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {

@@ -7,6 +7,7 @@
 
 #include <fstream>
 
+#include "nets/io/temporary_folder.h"
 #include "pipeline/dataset/scene_dataset.h"
 #include "pipeline/networks/network_config.h"
 #include "pipeline/sim/random_scene.h"
@@ -15,7 +16,6 @@
 #include "pipeline/train/training_run.h"
 #include "runtime/error.h"
 #include "tests/harness/gpu_test.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {

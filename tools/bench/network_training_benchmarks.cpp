@@ -17,10 +17,10 @@
 #include <memory>
 #include <string>
 
+#include "nets/io/temporary_folder.h"
 #include "nets/optim/adam.h"
 #include "nets/optim/ema.h"
 #include "nets/optim/grad_clip.h"
-#include "nets/io/temporary_folder.h"
 #include "pipeline/dataset/scene_dataset.h"
 #include "pipeline/networks/network_config.h"
 #include "pipeline/preset.h"

@@ -9,8 +9,8 @@
 #include <thread>
 
 #include "nets/io/npy.h"
-#include "runtime/error.h"
 #include "nets/io/temporary_folder.h"
+#include "runtime/error.h"
 #include "tests/harness/test_data.h"
 
 namespace smokesvd::testing {

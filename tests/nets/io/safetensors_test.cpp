@@ -8,10 +8,10 @@
 #include <random>
 
 #include "nets/io/safetensors.h"
+#include "nets/io/temporary_folder.h"
 #include "runtime/error.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {

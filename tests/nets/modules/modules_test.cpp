@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "nets/io/safetensors.h"
+#include "nets/io/temporary_folder.h"
 #include "nets/modules/activation.h"
 #include "nets/modules/group_norm.h"
 #include "nets/modules/linear.h"
@@ -15,7 +16,6 @@
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {

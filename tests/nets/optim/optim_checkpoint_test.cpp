@@ -4,11 +4,11 @@
 #include <filesystem>
 
 #include "nets/io/safetensors.h"
+#include "nets/io/temporary_folder.h"
 #include "nets/optim/checkpoint.h"
 #include "runtime/error.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {

@@ -3,11 +3,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "nets/io/temporary_folder.h"
 #include "pipeline/camera/calibration.h"
 #include "pipeline/media/video.h"
 #include "pipeline/render/calibration_check.h"
 #include "runtime/error.h"
-#include "nets/io/temporary_folder.h"
 #include "tests/harness/test_data.h"
 #include "tests/pipeline/render/scenes.h"
 

@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "nets/io/npy.h"
+#include "nets/io/temporary_folder.h"
 #include "pipeline/camera/calibration.h"
 #include "pipeline/export/export_run.h"
 #include "pipeline/export/nerf_cameras.h"
@@ -23,7 +24,6 @@
 #include "runtime/error.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/simulated_reconstruction.h"
-#include "nets/io/temporary_folder.h"
 
 #if SMOKESVD_WITH_OPENVDB
 #include <openvdb/openvdb.h>

@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include "nets/io/temporary_folder.h"
 #include "pipeline/media/image.h"
 #include "pipeline/media/video.h"
 #include "runtime/error.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {

@@ -7,9 +7,9 @@
 #include <fstream>
 
 #include "nets/io/npy.h"
+#include "nets/io/temporary_folder.h"
 #include "pipeline/camera/calibration.h"
 #include "pipeline/reconstruct/front_views.h"
-#include "nets/io/temporary_folder.h"
 #include "tests/pipeline/render/scenes.h"
 
 namespace smokesvd::testing {

@@ -25,6 +25,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The front view of a tiny density as the clip below shows it: the orbit camera at 0 degrees, the reference look.
+media::Image clipRender(Context& context, const Tensor& density) {
+  render::RenderSettings look;
+  look.absorption = preset("tiny").absorption;
+  const std::vector<Camera> front{networks::orbitCameraAt(preset("tiny"), 0)};
+  return render::renderImages(context, density, front, look)[0];
+}
+
 // The front views of a tiny scene no network saw (seed 999), rendered with the reference look.
 const fs::path& clip() {
   static const fs::path frames = [] {
@@ -32,14 +40,11 @@ const fs::path& clip() {
     sim::Scene scene = sim::randomScene(999, preset("tiny").grid, 6);
     scene.render.enabled = false;
     sim::runScene(testContext(), scene, root / "scene", {});
-    render::RenderSettings look;
-    look.absorption = preset("tiny").absorption;
-    const std::vector<Camera> front{networks::orbitCameraAt(preset("tiny"), 0)};
     for (int t = 0; t < 6; ++t) {
       const io::NpyArray d = io::readNpzMember(root / "scene" / "fields" / ("density_" + sim::frameName(t) + ".npz"), "density");
       const Tensor density = Tensor::fromHost(testContext(), d.shape, d.toFloat());
       fs::create_directories(root / "frames");
-      media::writePng(root / "frames" / (sim::frameName(t) + ".png"), render::renderImages(testContext(), density, front, look)[0], 16);
+      media::writePng(root / "frames" / (sim::frameName(t) + ".png"), clipRender(testContext(), density), 16);
     }
     return root / "frames";
   }();
@@ -95,15 +100,12 @@ void expectFieldsObeyTheAdvection(Context& context, const fs::path& out, int fra
 // Mean squared difference between the clip's frames and renders of run `out`'s densities through the clip's
 // camera and look, over frames 1 to frames-1.
 double inputViewError(Context& context, const fs::path& out, int frames) {
-  render::RenderSettings look;
-  look.absorption = preset("tiny").absorption;
-  const std::vector<Camera> front{networks::orbitCameraAt(preset("tiny"), 0)};
   double sum = 0;
   std::size_t count = 0;
   for (int t = 1; t < frames; ++t) {
     const media::Image input = media::readPng(clip() / (sim::frameName(t) + ".png"));
     const Tensor density = Tensor::fromHost(context, preset("tiny").grid.volume(), field(out, "density", t));
-    const media::Image render = render::renderImages(context, density, front, look)[0];
+    const media::Image render = clipRender(context, density);
     EXPECT_EQ(input.values.size(), render.values.size());
     for (std::size_t i = 0; i < std::min(input.values.size(), render.values.size()); ++i, ++count)
       sum += (input.values[i] - render.values[i]) * (input.values[i] - render.values[i]);

@@ -5,11 +5,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "nets/io/temporary_folder.h"
 #include "pipeline/sim/domain.h"
 #include "pipeline/sim/random_scene.h"
 #include "pipeline/sim/scene.h"
 #include "runtime/error.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {

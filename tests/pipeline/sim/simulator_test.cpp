@@ -7,17 +7,17 @@
 #include <sstream>
 
 #include "nets/io/npy.h"
+#include "nets/io/temporary_folder.h"
 #include "pipeline/physics/advection.h"
 #include "pipeline/sim/domain.h"
-#include "pipeline/sim/random_scene.h"
 #include "pipeline/sim/outputs.h"
+#include "pipeline/sim/random_scene.h"
 #include "pipeline/sim/run.h"
 #include "pipeline/sim/run_files.h"
 #include "pipeline/sim/simulator.h"
 #include "runtime/error.h"
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
-#include "nets/io/temporary_folder.h"
 #include "tests/pipeline/physics/sim_reference.h"
 
 namespace smokesvd::testing {

@@ -14,6 +14,7 @@
 
 #include "nets/functional/broadcast.h"
 #include "nets/io/npy.h"
+#include "nets/io/temporary_folder.h"
 #include "nets/models/model_json.h"
 #include "nets/modules/weights.h"
 #include "pipeline/differentiable/render.h"
@@ -26,7 +27,6 @@
 #include "pipeline/preset.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::networks {
 

@@ -10,8 +10,8 @@
 #include <limits>
 
 #include "nets/io/npy.h"
-#include "tests/harness/command.h"
 #include "nets/io/temporary_folder.h"
+#include "tests/harness/command.h"
 
 namespace smokesvd::testing {
 namespace {

@@ -5,11 +5,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include "nets/io/temporary_folder.h"
 #include "pipeline/export/export_run.h"
 #include "tests/harness/command.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/simulated_reconstruction.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {

@@ -8,9 +8,9 @@
 #include <nlohmann/json.hpp>
 
 #include "nets/io/npy.h"
+#include "nets/io/temporary_folder.h"
 #include "tests/harness/command.h"
 #include "tests/harness/op_runner.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {

@@ -4,11 +4,11 @@
 #include <fstream>
 
 #include "nets/io/npy.h"
+#include "nets/io/temporary_folder.h"
 #include "pipeline/media/image.h"
 #include "pipeline/media/video.h"
 #include "tests/harness/command.h"
 #include "tests/harness/random.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {

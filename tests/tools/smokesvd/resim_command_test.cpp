@@ -7,11 +7,11 @@
 #include <fstream>
 
 #include "nets/io/npy.h"
+#include "nets/io/temporary_folder.h"
 #include "pipeline/media/video.h"
 #include "tests/harness/command.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/simulated_reconstruction.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {

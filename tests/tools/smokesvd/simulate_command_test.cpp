@@ -5,9 +5,9 @@
 #include <fstream>
 
 #include "nets/io/npy.h"
+#include "nets/io/temporary_folder.h"
 #include "pipeline/sim/scene.h"
 #include "tests/harness/command.h"
-#include "nets/io/temporary_folder.h"
 
 namespace smokesvd::testing {
 namespace {
