@@ -34,4 +34,24 @@ Var Bottleneck::forward(Tape& tape, const Var& x) {
   return fn::add(tape, skip_->forward(tape, x), h);
 }
 
+std::vector<Var> Bottleneck::forwardParts(Tape& tape, const std::vector<Var>& parts,
+                                          const std::vector<int64_t>& outChannels) {
+  int64_t total = 0;
+  for (const int64_t channels : outChannels) total += channels;
+  if (total != options_.outChannels)
+    throw Error("Bottleneck: output groups of " + std::to_string(total) + " channels in all, the block has " +
+                std::to_string(options_.outChannels));
+  if (parts.size() == 1 && outChannels.size() == 1) return {forward(tape, parts[0])};
+  const float slope = options_.negativeSlope;
+  std::vector<Var> activated;
+  for (const Var& part : parts) activated.push_back(fn::leakyRelu(tape, part, slope));
+  Var h = reduce_->forwardParts(tape, activated, {reduce_->weight()->value.size(0)})[0];
+  h = conv_->forward(tape, fn::leakyRelu(tape, h, slope));
+  const std::vector<Var> expanded = expand_->forwardParts(tape, {fn::leakyRelu(tape, h, slope)}, outChannels);
+  const std::vector<Var> skipped = skip_->forwardParts(tape, parts, outChannels);
+  std::vector<Var> groups;
+  for (std::size_t j = 0; j < outChannels.size(); ++j) groups.push_back(fn::add(tape, skipped[j], expanded[j]));
+  return groups;
+}
+
 }  // namespace smokesvd::models

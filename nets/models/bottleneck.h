@@ -13,6 +13,7 @@
 #pragma once
 
 #include <memory>
+#include <vector>
 
 #include "nets/modules/conv.h"
 
@@ -31,6 +32,10 @@ class Bottleneck : public modules::UnaryModule {
  public:
   Bottleneck(Context& context, BottleneckOptions options);
   Var forward(Tape& tape, const Var& x) override;
+  // forward(cat(parts, 1)) with its output in consecutive groups of outChannels each, every group its own
+  // tensor and cat(parts) never formed (modules::Conv::forwardParts): for maps whose channels do not fit
+  // one tensor. One part and one group is forward itself.
+  std::vector<Var> forwardParts(Tape& tape, const std::vector<Var>& parts, const std::vector<int64_t>& outChannels);
   const BottleneckOptions& options() const { return options_; }
 
  private:

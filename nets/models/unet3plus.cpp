@@ -5,6 +5,7 @@
 #include "nets/functional/concat.h"
 #include "nets/functional/pool.h"
 #include "nets/functional/resample.h"
+#include "runtime/context.h"
 #include "runtime/error.h"
 
 namespace smokesvd::models {
@@ -21,7 +22,8 @@ void UNet3PlusConfig::validate() const {
   if (presenceSlots < 0) throw Error("UNet3+ config: presence_slots must be >= 0");
 }
 
-UNet3Plus::UNet3Plus(Context& context, UNet3PlusConfig config) : config_(std::move(config)) {
+UNet3Plus::UNet3Plus(Context& context, UNet3PlusConfig config)
+    : config_(std::move(config)), largestTensorBytes_(context.info().maxTensorBytes()) {
   config_.validate();
   const UNet3PlusConfig& c = config_;
   const int levels = c.levels();
@@ -61,7 +63,7 @@ UNet3Plus::UNet3Plus(Context& context, UNet3PlusConfig config) : config_(std::mo
 }
 
 Var UNet3Plus::source(Tape& tape, int stage, int level, const std::vector<Var>& encoder,
-                      const std::vector<Var>& decoder) {
+                      const std::vector<Parts>& decoder) {
   const int levels = config_.levels();
   const auto& block = sources_[static_cast<std::size_t>(stage)][static_cast<std::size_t>(level)];
   if (level <= stage) {
@@ -69,8 +71,9 @@ Var UNet3Plus::source(Tape& tape, int stage, int level, const std::vector<Var>& 
     for (int k = level; k < stage; ++k) x = fn::maxPool(tape, x);
     return block->forward(tape, x);
   }
-  const Var& deeper = level == levels - 1 ? encoder.back() : decoder[static_cast<std::size_t>(level)];
-  return fn::upsample(tape, block->forward(tape, deeper), 1 << (level - stage), fn::ResampleMode::Linear);
+  const Parts deeper = level == levels - 1 ? Parts{encoder.back()} : decoder[static_cast<std::size_t>(level)];
+  return fn::upsample(tape, block->forwardParts(tape, deeper, {config_.catChannels})[0], 1 << (level - stage),
+                      fn::ResampleMode::Linear);
 }
 
 UNet3PlusOutput UNet3Plus::forward(Tape& tape, const Var& x, const Var& presence, bool deepSupervision) {
@@ -99,22 +102,29 @@ UNet3PlusOutput UNet3Plus::forward(Tape& tape, const Var& x, const Var& presence
   encoder.push_back(h);
   for (const auto& block : down_) encoder.push_back(block->forward(tape, encoder.back()));
 
-  std::vector<Var> decoder(static_cast<std::size_t>(levels - 1));
+  std::vector<Parts> decoder(static_cast<std::size_t>(levels - 1));
   for (int d = levels - 2; d >= 0; --d) {
-    std::vector<Var> parts;
-    for (int s = 0; s < levels; ++s) parts.push_back(source(tape, d, s, encoder, decoder));
-    decoder[static_cast<std::size_t>(d)] = fuse_[static_cast<std::size_t>(d)]->forward(tape, fn::concatChannels(tape, parts));
+    Parts sources;
+    for (int s = 0; s < levels; ++s) sources.push_back(source(tape, d, s, encoder, decoder));
+    const Tensor& level = encoder[static_cast<std::size_t>(d)]->value;
+    const uint64_t fusedBytes = static_cast<uint64_t>(level.numel() / level.size(1)) *
+                                static_cast<uint64_t>(c.catChannels * levels) * sizeof(float);
+    const auto& fuse = fuse_[static_cast<std::size_t>(d)];
+    decoder[static_cast<std::size_t>(d)] =
+        fusedBytes > largestTensorBytes_
+            ? fuse->forwardParts(tape, sources, std::vector<int64_t>(static_cast<std::size_t>(levels), c.catChannels))
+            : Parts{fuse->forward(tape, fn::concatChannels(tape, sources))};
   }
 
-  auto head = [&](int k, const Var& map) {
-    Var y = heads_[static_cast<std::size_t>(k)]->forward(tape, map);
+  auto head = [&](int k, const Parts& map) {
+    Var y = heads_[static_cast<std::size_t>(k)]->forwardParts(tape, map, {c.outChannels})[0];
     return c.output == OutputActivation::ReLU ? fn::relu(tape, y) : y;
   };
   UNet3PlusOutput result;
   result.output = head(0, decoder[0]);
   if (deepSupervision)
     for (int k = 1; k < levels; ++k) {
-      const Var& map = k < levels - 1 ? decoder[static_cast<std::size_t>(k)] : encoder.back();
+      const Parts map = k < levels - 1 ? decoder[static_cast<std::size_t>(k)] : Parts{encoder.back()};
       result.supervision.push_back(fn::upsample(tape, head(k, map), 1 << k, fn::ResampleMode::Nearest));
     }
   return result;

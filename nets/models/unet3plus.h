@@ -20,12 +20,20 @@
 // halves the cost of the canonical layout (where deeper maps are upsampled before their block).
 // Every spatial size must be divisible by 2^(L-1).
 //
+// Large maps: a fused map hd_d whose L c channels would not fit one tensor (the device's
+// DeviceInfo::maxTensorBytes: the paper preset's hd_0, 160 channels at 64 x 112 x 64, is 280 MiB and
+// lavapipe's limit 128 MiB) is kept as its L source-sized channel parts: its fusion block, the blocks that
+// read it and its head run on the parts (Bottleneck::forwardParts), and cat(sources) is never formed. The
+// products are the same; sums over channels are accumulated part by part, so outputs differ from the
+// one-tensor path by rounding only. Parameters and their names do not change.
+//
 // presence: with presenceSlots > 0, forward takes p [N, slots] (1 where a view slot holds an image,
 // 0 where it is missing) and adds Linear(slots -> f_0)(p) to every voxel of the stem's output. That is
 // exactly what constant per-slot presence channels contribute through the stem's convolution away from
 // the border, without their cost: "no view" differs from "a view of nothing".
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -63,11 +71,16 @@ class UNet3Plus : public modules::Module {
   // x [N, in, spatial...]; presence [N, slots] when the config has presence slots, else nullptr.
   UNet3PlusOutput forward(Tape& tape, const Var& x, const Var& presence = nullptr, bool deepSupervision = false);
   const UNet3PlusConfig& config() const { return config_; }
+  // Fused maps above this many bytes are kept in channel parts (above); the device's largest tensor
+  // unless set (tests set it to take the parts path at small sizes).
+  void setLargestTensorBytes(uint64_t bytes) { largestTensorBytes_ = bytes; }
 
  private:
-  Var source(Tape& tape, int stage, int level, const std::vector<Var>& encoder, const std::vector<Var>& decoder);
+  using Parts = std::vector<Var>;  // one map as channel parts, in channel order (usually one part)
+  Var source(Tape& tape, int stage, int level, const std::vector<Var>& encoder, const std::vector<Parts>& decoder);
 
   UNet3PlusConfig config_;
+  uint64_t largestTensorBytes_;
   std::shared_ptr<modules::Conv> stem_;
   std::shared_ptr<modules::Linear> presence_;
   std::vector<std::shared_ptr<Bottleneck>> down_;                  // down_[l - 1] makes x_l

@@ -1,6 +1,7 @@
 #include "nets/modules/conv.h"
 
 #include "nets/functional/conv.h"
+#include "nets/functional/conv_of_parts.h"
 #include "nets/modules/flop_counter.h"
 #include "runtime/error.h"
 
@@ -29,6 +30,25 @@ Var Conv::forward(Tape& tape, const Var& x) {
   FlopCounter::count(2.0 * static_cast<double>(y->value.numel()) *
                      static_cast<double>(weight_->value.numel() / weight_->value.size(0)));
   return y;
+}
+
+std::vector<Var> Conv::forwardParts(Tape& tape, const std::vector<Var>& parts, const std::vector<int64_t>& outChannels) {
+  if (parts.size() == 1 && outChannels.size() == 1 && outChannels[0] == weight_->value.size(0))
+    return {forward(tape, parts[0])};
+  int64_t total = 0;
+  for (const int64_t channels : outChannels) total += channels;
+  if (total != weight_->value.size(0))
+    throw Error("Conv: output groups of " + std::to_string(total) + " channels in all, the weight " +
+                toString(weight_->value.shape()) + " has " + std::to_string(weight_->value.size(0)));
+  std::vector<Var> groups;
+  int64_t begin = 0;
+  for (const int64_t channels : outChannels) {
+    groups.push_back(fn::convOfParts(tape, parts, weight_, bias_, params_, begin, begin + channels));
+    FlopCounter::count(2.0 * static_cast<double>(groups.back()->value.numel()) *
+                       static_cast<double>(weight_->value.numel() / weight_->value.size(0)));
+    begin += channels;
+  }
+  return groups;
 }
 
 }  // namespace smokesvd::modules

@@ -2,6 +2,8 @@
 // parameters "weight" [out, in, k, k] or [out, in, k, k, k] and "bias" [out].
 #pragma once
 
+#include <vector>
+
 #include "nets/modules/module.h"
 #include "nets/ops/conv.h"
 
@@ -19,6 +21,10 @@ class Conv : public UnaryModule {
   // dims: 2 (N,C,H,W) or 3 (N,C,D,H,W).
   Conv(Context& context, int dims, int64_t inChannels, int64_t outChannels, int kernel, ConvOptions options = {});
   Var forward(Tape& tape, const Var& x) override;
+  // The output channels of forward(cat(parts, 1)) in consecutive groups of outChannels each, every group
+  // its own tensor (fn::convOfParts): for maps whose channels do not fit one tensor. One part and one
+  // group is forward itself.
+  std::vector<Var> forwardParts(Tape& tape, const std::vector<Var>& parts, const std::vector<int64_t>& outChannels);
   const Var& weight() const { return weight_; }
   const Var& bias() const { return bias_; }  // nullptr without bias
 

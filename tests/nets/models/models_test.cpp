@@ -7,6 +7,7 @@
 #include "nets/modules/flop_counter.h"
 #include "nets/optim/adam.h"
 #include "runtime/error.h"
+#include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
 
@@ -61,6 +62,48 @@ TEST_F(ModelsTest, UNet3PlusCountsAndShapes) {
   EXPECT_EQ(out.supervision[0]->value.shape(), (Shape{1, 3, 4, 6, 8}));
   EXPECT_THROW(net.forward(tape, variable(randomTensor(context(), {1, 2, 4, 5, 8}, 4))), Error);
   EXPECT_THROW(net.forward(tape, variable(randomTensor(context(), {1, 3, 4, 6, 8}, 4))), Error);
+}
+
+// A fused map too large for one tensor is kept in channel parts (unet3plus.h): the same outputs and
+// parameter gradients as the one-tensor path, 2D and 3D, with every decoder stage in parts.
+TEST_F(ModelsTest, UNet3PlusInChannelPartsMatchesTheOneTensorPath) {
+  for (const int dims : {2, 3}) {
+    UNet3PlusConfig config;
+    config.dims = dims;
+    config.inChannels = 2;
+    config.outChannels = 2;
+    config.filters = {4, 6, 8};
+    config.catChannels = 3;
+    config.minMid = 2;
+    UNet3Plus whole(context(), config), inParts(context(), config);
+    inParts.setLargestTensorBytes(0);
+    const NamedParameters a = whole.namedParameters(), b = inParts.namedParameters();
+    for (std::size_t i = 0; i < a.size(); ++i) {  // random, not initial: a fresh block's branch is zero
+      const std::vector<float> values = randomValues(a[i].second->value.numel(), 100 + i, -0.5f, 0.5f);
+      a[i].second->value.upload(values);
+      b[i].second->value.upload(values);
+    }
+    const Shape inShape = dims == 3 ? Shape{1, 2, 4, 8, 12} : Shape{2, 2, 8, 12};
+    Shape outShape = inShape;
+    outShape[1] = 2;
+    const Tensor x = randomTensor(context(), inShape, 5);
+    const Tensor upstream = randomTensor(context(), outShape, 6), upstreamDeep = randomTensor(context(), outShape, 7);
+
+    Stream stream(context());
+    Tape tape(stream);
+    const UNet3PlusOutput y = whole.forward(tape, variable(x), nullptr, true);
+    const UNet3PlusOutput z = inParts.forward(tape, variable(x), nullptr, true);
+    tape.backward({{y.output, upstream}, {y.supervision[0], upstreamDeep}, {y.supervision[1], upstream},
+                   {z.output, upstream}, {z.supervision[0], upstreamDeep}, {z.supervision[1], upstream}});
+    stream.submit();
+
+    const Tolerance tolerance{1e-5, 1e-4};
+    EXPECT_TRUE(allClose(z.output->value, y.output->value.download(), tolerance)) << dims << "D";
+    for (std::size_t k = 0; k < y.supervision.size(); ++k)
+      EXPECT_TRUE(allClose(z.supervision[k]->value, y.supervision[k]->value.download(), tolerance)) << dims << "D head " << k + 1;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      EXPECT_TRUE(allClose(b[i].second->grad, a[i].second->grad.download(), tolerance)) << dims << "D " << a[i].first;
+  }
 }
 
 TEST_F(ModelsTest, UNet3PlusPresenceSlotsChangeTheOutputForAnEmptyInput) {
