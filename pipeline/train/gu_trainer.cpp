@@ -125,7 +125,7 @@ LossTerms GuTrainer::record(Tape& tape, int variant) {
 
 std::vector<Metric> GuTrainer::validate() {
   const int samples = config_.train.validationSamples;
-  double velocityError = 0, ratio = 0, advectedError = 0, stillError = 0;
+  double velocityError = 0, ratio = 0, truthRatio = 0, advectedError = 0, stillError = 0;
   for (int k = 0; k < samples; ++k) {
     const FrameDraw draw = validationFrames(data_.validation(), k, samples, 2, 0);
     upload(*draw.scene, draw.frame, Augmentation{});
@@ -136,14 +136,16 @@ std::vector<Metric> GuTrainer::validate() {
     const Var truth = diff::macToCentred(tape, velocity_);
     const Var velocity = generator_.forward(tape, current_, next_).velocity;
     const Var advected = diff::advect(tape, grid, current_, diff::centredToMac(tape, velocity), inflow_, advection_);
+    const Var advectedByTruth = diff::advect(tape, grid, current_, velocity_, inflow_, advection_);
     stream.submit();
     const std::vector<float> u = velocity->value.download(), us = truth->value.download();
     const std::vector<float> a = advected->value.download(), n = next_->value.download(), c = current_->value.download(),
-                             in = inflow_->value.download();
-    double du = 0, da = 0, ds = 0;
+                             in = inflow_->value.download(), at = advectedByTruth->value.download();
+    double du = 0, da = 0, ds = 0, dt = 0;
     for (std::size_t i = 0; i < u.size(); ++i) du += (static_cast<double>(u[i]) - us[i]) * (static_cast<double>(u[i]) - us[i]);
     for (std::size_t i = 0; i < a.size(); ++i) {
       da += (static_cast<double>(a[i]) - n[i]) * (static_cast<double>(a[i]) - n[i]);
+      dt += (static_cast<double>(at[i]) - n[i]) * (static_cast<double>(at[i]) - n[i]);
       const double still = static_cast<double>(c[i]) + in[i] - n[i];
       ds += still * still;
     }
@@ -151,9 +153,11 @@ std::vector<Metric> GuTrainer::validate() {
     advectedError += std::sqrt(da / static_cast<double>(a.size()));
     stillError += std::sqrt(ds / static_cast<double>(a.size()));
     ratio += ds > 0 ? std::sqrt(da / ds) : 0.0;
+    truthRatio += ds > 0 ? std::sqrt(dt / ds) : 0.0;
   }
   const double n = samples;
-  return {{"advection_error_ratio", ratio / n}, {"velocity_rmse", velocityError / n},
+  return {{"advection_error_ratio", ratio / n}, {"advection_error_ratio_true_velocity", truthRatio / n},
+          {"velocity_rmse", velocityError / n},
           {"advected_density_rmse", advectedError / n}, {"no_motion_density_rmse", stillError / n}};
 }
 
