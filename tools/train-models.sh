@@ -51,8 +51,8 @@ else
 fi
 train svdiff-init
 train svdiff $(shortened 1200)
-# The fine G_rho given all 16 true views: the run above continued with the renders weighted 4 (docs/models.md,
-# "The fine G_ρ on true views"); the reconstruction does not use it.
+# The fine G_rho given all 16 true views: grho-fine's first run (above) continued with the renders weighted 4
+# (docs/models.md, "The fine G_ρ on true views"); the reconstruction does not use it.
 if [ "$PRESET" = small ]; then
   run grho-fine "$MODELS/grho-fine-true-views" --config models/configs/small/grho-fine-true-views.json --seed 61 \
     --init "$MODELS/grho-fine/model.safetensors"
