@@ -51,16 +51,14 @@ else
 fi
 train svdiff-init
 train svdiff $(shortened 1200)
-# The fine G_rho given all 16 true views: grho-fine's first run (above) continued with the renders weighted 4
-# (docs/models.md, "The fine G_ρ on true views"); the reconstruction does not use it.
+# Two continuations of grho-fine's first run (above; all 16 true views, which gu fine-tuned on), both small only:
+# - grho-fine-true-views, on 16 true views with the renders weighted 4 (docs/models.md, "The fine G_ρ on true
+#   views"); the reconstruction does not use it;
+# - the shipped fine G_rho, on the views the reconstruction gives it (docs/models.md, "The fine G_rho and the
+#   views it is given"); its model card describes both of its runs.
 if [ "$PRESET" = small ]; then
   run grho-fine "$MODELS/grho-fine-true-views" --config models/configs/small/grho-fine-true-views.json --seed 61 \
     --init "$MODELS/grho-fine/model.safetensors"
-fi
-# The shipped small fine G_rho: the run above (all 16 true views, which gu fine-tuned on), continued on the
-# views the reconstruction gives it (docs/models.md, "The fine G_rho and the views it is given"); its model
-# card describes both runs.
-if [ "$PRESET" = small ]; then
   run grho-fine "$STAGES/grho-fine-inference-views" --config models/configs/small/grho-fine-inference-views.json \
     --init "$MODELS/grho-fine/model.safetensors"
   for file in model.safetensors config.json loss.csv loss.png validation.csv run.json; do
