@@ -30,14 +30,20 @@ train() {
   shift
   run "$network" "$MODELS/$network" --preset "$PRESET" "$@"
 }
-# The shipped small weights of gu and svdiff were trained for fewer steps than their configs say
-# (docs/models.md, "Training"); SHIPPED_STEPS=0 trains every network for its config's steps.
+# The shipped small svdiff, and the first G_u that its guidance ran, were trained for fewer steps than their
+# configs say (docs/models.md, "Training"); SHIPPED_STEPS=0 trains every network for its config's steps.
 shortened() {
   if [ "$PRESET" = small ] && [ "${SHIPPED_STEPS:-1}" = 1 ]; then echo --steps "$1"; fi
 }
 train grho-coarse
 train grho-fine --init "$MODELS/grho-coarse/model.safetensors"
-train gu $(shortened 2500)
+# The small preset's first G_u is the narrow one (models/configs/small/gu-narrow.json): svdiff's guidance was
+# trained through it, and the shipped G_u (twice as wide) replaces it below.
+if [ "$PRESET" = small ]; then
+  run gu "$MODELS/gu" --config models/configs/small/gu-narrow.json $(shortened 2500)
+else
+  train gu
+fi
 # The shipped small NvRef: trained with the true history, then twice on its own (docs/models.md, "NvRef and
 # its history").
 if [ "$PRESET" = small ]; then
@@ -63,6 +69,12 @@ if [ "$PRESET" = small ]; then
     --init "$MODELS/grho-fine/model.safetensors"
   for file in model.safetensors config.json loss.csv loss.png validation.csv run.json; do
     cp "$STAGES/grho-fine-inference-views/$file" "$MODELS/grho-fine/$file"
+  done
+  # The shipped G_u: the preset's config (filters 16-128, the advected density weighted 100), from scratch on
+  # true densities (docs/models.md, "The shipped G_u").
+  run gu "$STAGES/gu" --preset small --seed 91
+  for file in model.safetensors config.json loss.csv loss.png validation.csv run.json; do
+    cp "$STAGES/gu/$file" "$MODELS/gu/$file"
   done
 fi
 # The shipped folder keeps what a user needs: each network's weights, config and model card, and the
