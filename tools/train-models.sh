@@ -35,6 +35,14 @@ train() {
 shortened() {
   if [ "$PRESET" = small ] && [ "${SHIPPED_STEPS:-1}" = 1 ]; then echo --steps "$1"; fi
 }
+# ship FOLDER NETWORK [FILE...]: a run's weights, config and logs (and FILEs) replace MODELS/NETWORK's
+ship() {
+  local from=$1 network=$2
+  shift 2
+  for file in model.safetensors config.json loss.csv loss.png validation.csv run.json "$@"; do
+    cp "$from/$file" "$MODELS/$network/$file"
+  done
+}
 train grho-coarse
 train grho-fine --init "$MODELS/grho-coarse/model.safetensors"
 # The small preset's first G_u is the narrow one (models/configs/small/gu-narrow.json): svdiff's guidance was
@@ -67,15 +75,11 @@ if [ "$PRESET" = small ]; then
     --init "$MODELS/grho-fine/model.safetensors"
   run grho-fine "$STAGES/grho-fine-inference-views" --config models/configs/small/grho-fine-inference-views.json \
     --init "$MODELS/grho-fine/model.safetensors"
-  for file in model.safetensors config.json loss.csv loss.png validation.csv run.json; do
-    cp "$STAGES/grho-fine-inference-views/$file" "$MODELS/grho-fine/$file"
-  done
+  ship "$STAGES/grho-fine-inference-views" grho-fine  # its shipped model card describes both runs
   # The shipped G_u: the preset's config (filters 16-128, the advected density weighted 100), from scratch on
   # true densities (docs/models.md, "The shipped G_u").
   run gu "$STAGES/gu" --preset small --seed 91
-  for file in model.safetensors config.json loss.csv loss.png validation.csv run.json; do
-    cp "$STAGES/gu/$file" "$MODELS/gu/$file"
-  done
+  ship "$STAGES/gu" gu model_card.md  # the narrow G_u's card does not describe these weights
 fi
 # The shipped folder keeps what a user needs: each network's weights, config and model card, and the
 # loss curve; the logs stay beside them.
