@@ -25,13 +25,6 @@ std::string fileHash(const std::filesystem::path& path) {
   return text;
 }
 
-diffusion::NoiseSchedule scheduleOf(const networks::NetworkConfig& c) {
-  const std::string where = c.source + " [options]";
-  return diffusion::NoiseSchedule::linear(static_cast<int>(networks::integer(c.options, "diffusion_steps", where)),
-                                          networks::number(c.options, "beta_start", where),
-                                          networks::number(c.options, "beta_end", where));
-}
-
 }  // namespace
 
 MethodModels::MethodModels(Context& context, const std::filesystem::path& folder, const Preset& preset, bool sideViews) {
@@ -47,13 +40,15 @@ MethodModels::MethodModels(Context& context, const std::filesystem::path& folder
   std::vector<modules::Module*> modules;
   if (sideViews) {
     const auto sv = networks::findTrainedModel(folder, Network::SvDiff, preset);
-    sideView = std::make_unique<networks::SideViewSynthesizer>(context, ddpm(sv), 1, 5);
+    const networks::DiffusionSettings svDiffusion = networks::diffusionSettings(sv.config);
+    sideView = std::make_unique<networks::SideViewSynthesizer>(context, ddpm(sv), 1, 5, svDiffusion.prediction);
     load(Network::SvDiff, sideView->net(), sv);
-    schedule = scheduleOf(sv.config);
+    schedule = svDiffusion.schedule;
     const auto svi = networks::findTrainedModel(folder, Network::SvDiffInit, preset);
-    sideViewInit = std::make_unique<networks::SideViewSynthesizer>(context, ddpm(svi), 2, 2);
+    const networks::DiffusionSettings sviDiffusion = networks::diffusionSettings(svi.config);
+    sideViewInit = std::make_unique<networks::SideViewSynthesizer>(context, ddpm(svi), 2, 2, sviDiffusion.prediction);
     load(Network::SvDiffInit, sideViewInit->net(), svi);
-    initSchedule = scheduleOf(svi.config);
+    initSchedule = sviDiffusion.schedule;
     modules = {&sideView->net(), &sideViewInit->net()};
   }
   const auto gc = networks::findTrainedModel(folder, Network::GrhoCoarse, preset);

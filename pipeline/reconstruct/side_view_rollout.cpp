@@ -25,13 +25,27 @@ double average(const std::vector<double>& v, std::size_t begin, std::size_t end)
 
 double RolloutResult::mean() const { return average(psnr, 0, psnr.size()); }
 double RolloutResult::mirroredMean() const { return average(mirrored, 0, mirrored.size()); }
+double RolloutResult::blackMean() const { return average(black, 0, black.size()); }
 double RolloutResult::firstTen() const { return average(psnr, 0, 10); }
 double RolloutResult::lastTen() const { return average(psnr, psnr.size() >= 10 ? psnr.size() - 10 : 0, psnr.size()); }
+double RolloutResult::mirroredFirstTen() const { return average(mirrored, 0, 10); }
+double RolloutResult::mirroredLastTen() const {
+  return average(mirrored, mirrored.size() >= 10 ? mirrored.size() - 10 : 0, mirrored.size());
+}
 
 nlohmann::json RolloutResult::toJson() const {
-  return {{"scenes", scenes},       {"frames", psnr.size()},  {"psnr_mean", mean()},
-          {"psnr_mirrored_front_mean", mirroredMean()},       {"psnr_first_10", firstTen()},
-          {"psnr_last_10", lastTen()}, {"psnr_per_frame", psnr}, {"psnr_mirrored_front_per_frame", mirrored}};
+  return {{"scenes", scenes},
+          {"frames", psnr.size()},
+          {"psnr_mean", mean()},
+          {"psnr_mirrored_front_mean", mirroredMean()},
+          {"psnr_black_mean", blackMean()},
+          {"psnr_first_10", firstTen()},
+          {"psnr_last_10", lastTen()},
+          {"psnr_mirrored_front_first_10", mirroredFirstTen()},
+          {"psnr_mirrored_front_last_10", mirroredLastTen()},
+          {"psnr_per_frame", psnr},
+          {"psnr_mirrored_front_per_frame", mirrored},
+          {"psnr_black_per_frame", black}};
 }
 
 RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int frames,
@@ -40,6 +54,7 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
   RolloutResult result;
   result.psnr.assign(static_cast<std::size_t>(frames), 0.0);
   result.mirrored.assign(static_cast<std::size_t>(frames), 0.0);
+  result.black.assign(static_cast<std::size_t>(frames), 0.0);
   const std::vector<Camera> frontSide{networks::orbitCameraAt(preset, 0), networks::orbitCameraAt(preset, 90)};
   const render::ViewSet sideCamera = render::uploadViews(context, std::vector<Camera>{frontSide[1]});
   for (const dataset::SceneEntry& scene : data.validation()) {
@@ -81,6 +96,8 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
       const std::vector<float> mirror = media::mirroredRows(fronts[static_cast<std::size_t>(t)].values, preset.imageWidth);
       result.psnr[static_cast<std::size_t>(t)] += train::psnr(synthesized, sides[static_cast<std::size_t>(t)].values);
       result.mirrored[static_cast<std::size_t>(t)] += train::psnr(mirror, sides[static_cast<std::size_t>(t)].values);
+      result.black[static_cast<std::size_t>(t)] +=
+          train::psnr(std::vector<float>(synthesized.size(), 0.0f), sides[static_cast<std::size_t>(t)].values);
     }
     ++result.scenes;
   }
@@ -88,6 +105,7 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
     throw Error(data.root().string() + ": no validation scene has the " + std::to_string(frames) + " frames of the rollout");
   for (double& v : result.psnr) v /= result.scenes;
   for (double& v : result.mirrored) v /= result.scenes;
+  for (double& v : result.black) v /= result.scenes;
   return result;
 }
 

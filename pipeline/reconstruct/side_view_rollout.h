@@ -2,7 +2,8 @@
 // the side view of every frame is synthesised exactly as a reconstruction does it (SvDiff-init for frames
 // 0 and 1, then SvDiff conditioned on its own previous side views and the 90-degree renders of their
 // coarse densities) from the true front views, and compared with the true side views: PSNR per frame
-// (data range 1, whole preset-size images), beside the naive baseline of the mirrored front view.
+// (data range 1, whole preset-size images), beside the naive baseline of the mirrored front view and the
+// all-black floor (on mostly black images an all-black side view scores high).
 // Front and side views are renders of the simulated densities with each scene's look in the networks'
 // units (pipeline/dataset/scene_dataset.h).
 #pragma once
@@ -18,12 +19,15 @@
 namespace smokesvd::reconstruct {
 
 struct RolloutResult {
-  std::vector<double> psnr, mirrored;  // per frame, mean over scenes
+  std::vector<double> psnr, mirrored, black;  // per frame, mean over scenes
   int scenes = 0;
   double mean() const;
   double mirroredMean() const;
+  double blackMean() const;
   double firstTen() const;
   double lastTen() const;
+  double mirroredFirstTen() const;
+  double mirroredLastTen() const;
   nlohmann::json toJson() const;
 };
 

@@ -84,7 +84,8 @@ Tensor sideView(Context& context, MethodModels& models, FrameState& state, int f
     std::vector<float> fronts = front.download();
     const std::vector<float> next = nextFront.download();
     fronts.insert(fronts.end(), next.begin(), next.end());
-    networks::SideViewDenoiser denoiser(*models.sideViewInit, variable(concatenated(context, {front, nextFront})));
+    networks::SideViewDenoiser denoiser(*models.sideViewInit, variable(concatenated(context, {front, nextFront})),
+                                        models.initSchedule);
     const std::vector<float> sides = meanSample(context, denoiser, models.initSchedule, both, ddim, fronts, options.samples);
     const auto half = sides.size() / 2;
     state.pendingSide.upload(std::vector<float>(sides.begin() + static_cast<std::ptrdiff_t>(half), sides.end()));
@@ -92,7 +93,8 @@ Tensor sideView(Context& context, MethodModels& models, FrameState& state, int f
   }
   const diffusion::DdimOptions ddim = ddimOptions(options, options.steps, models.schedule, frame);
   networks::SideViewDenoiser denoiser(
-      *models.sideView, variable(concatenated(context, {front, state.side1, state.sideRender1, state.side2, state.sideRender2})));
+      *models.sideView, variable(concatenated(context, {front, state.side1, state.sideRender1, state.side2, state.sideRender2})),
+      models.schedule);
   return Tensor::fromHost(context, image,
                           meanSample(context, denoiser, models.schedule, image, ddim, front.download(), options.samples));
 }

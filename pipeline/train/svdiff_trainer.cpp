@@ -39,24 +39,22 @@ Var image(Tape& tape, const Var& images, int index) {
 SvDiffTrainer::SvDiffTrainer(Context& context, const networks::NetworkConfig& config, const dataset::SceneDataset& data,
                              const std::filesystem::path& models, bool initial)
     : context_(context), config_(config), data_(data), initial_(initial),
-      schedule_(diffusion::NoiseSchedule::linear(
-          static_cast<int>(networks::integer(config.options, "diffusion_steps", config.source + " [options]")),
-          networks::number(config.options, "beta_start", config.source + " [options]"),
-          networks::number(config.options, "beta_end", config.source + " [options]"))),
+      schedule_(networks::diffusionSettings(config).schedule),
       synthesizer_(context, models::ddpmUNetFromJson(config.model, config.source + " [model]"), initial ? 2 : 1,
-                   initial ? 2 : 5),
+                   initial ? 2 : 5, networks::diffusionSettings(config).prediction),
       look_(context), factors_(context, config.train.batch) {
   const std::string lossWhere = config.source + " [loss]", optionsWhere = config.source + " [options]";
   const Preset& p = data.preset();
   if (initial) {
     models::requireKnownKeys(config.loss, {"noise", "image", "row_sum"}, lossWhere);
-    models::requireKnownKeys(config.options, {"diffusion_steps", "beta_start", "beta_end", "guidance_threshold",
-                                              "coarse_model", "guidance"},
+    models::requireKnownKeys(config.options, {"diffusion_steps", "beta_start", "beta_end", "prediction",
+                                              "guidance_threshold", "coarse_model", "guidance"},
                              optionsWhere);
   } else {
     models::requireKnownKeys(config.loss, {"noise", "image", "row_sum", "velocity"}, lossWhere);
-    models::requireKnownKeys(config.options, {"diffusion_steps", "beta_start", "beta_end", "guidance_threshold",
-                                              "coarse_model", "frames", "multi_frame", "guidance", "velocity_model"},
+    models::requireKnownKeys(config.options, {"diffusion_steps", "beta_start", "beta_end", "prediction",
+                                              "guidance_threshold", "coarse_model", "frames", "multi_frame", "guidance",
+                                              "velocity_model"},
                              optionsWhere);
     frames_ = static_cast<int>(networks::integer(config.options, "frames", optionsWhere));
     multiFrame_ = networks::flag(config.options, "multi_frame", optionsWhere);
@@ -138,12 +136,19 @@ int SvDiffTrainer::prepare(int64_t, diffusion::Gaussian& random) {
   return upload(*scene, frames, a, step, random) + (guided ? 2 : 0);
 }
 
+SvDiffTrainer::FrameErrors SvDiffTrainer::frameErrors(Tape& tape, const Var& clean, const Var& noise, const Var& noisy,
+                                                      const Var& predicted) {
+  const diffusion::Prediction prediction = synthesizer_.prediction();
+  return {fn::mseLoss(tape, diffusion::noiseFromPrediction(tape, prediction, noisy, predicted, factors_), noise),
+          fn::mseLoss(tape, diffusion::cleanFromPrediction(tape, prediction, noisy, predicted, factors_), clean)};
+}
+
 SvDiffTrainer::FrontSide SvDiffTrainer::frontSide(Tape& tape, const Var& density, const render::RenderSettings& settings) {
   const Var both = diff::render(tape, density, frontSideViews_, settings);
   return {image(tape, both, 0), image(tape, both, 1)};
 }
 
-LossTerms SvDiffTrainer::recordInitial(Tape& tape, bool guided, const render::RenderSettings& settings) {
+LossTerms SvDiffTrainer::recordInitial(Tape& tape, bool guided, const render::RenderSettings& settings, FrameErrors* errors) {
   const Preset& p = data_.preset();
   Var sides, fronts;
   {
@@ -160,11 +165,14 @@ LossTerms SvDiffTrainer::recordInitial(Tape& tape, bool guided, const render::Re
   }
   const Var clean = networks::toDiffusionRange(tape, sides);
   const Var noisy = diffusion::addNoise(tape, clean, noise_[0], factors_);
-  const Var predicted = synthesizer_.predictNoise(tape, noisy, fronts, steps_);
+  const diffusion::Prediction prediction = synthesizer_.prediction();
+  const Var predicted = synthesizer_.predict(tape, noisy, fronts, steps_);
+  const Var target = diffusion::predictionTarget(tape, prediction, clean, noise_[0], factors_);
+  if (errors) *errors = frameErrors(tape, clean, noise_[0], noisy, predicted);
   LossTerms terms;
-  terms.terms.emplace_back("noise", fn::scale(tape, fn::mseLoss(tape, predicted, noise_[0]), static_cast<float>(weights_.noise)));
+  terms.terms.emplace_back("noise", fn::scale(tape, fn::mseLoss(tape, predicted, target), static_cast<float>(weights_.noise)));
   if (guided) {
-    const Var estimate = diffusion::estimateClean(tape, noisy, predicted, factors_);
+    const Var estimate = diffusion::cleanFromPrediction(tape, prediction, noisy, predicted, factors_);
     terms.terms.emplace_back("image", fn::scale(tape, fn::mseLoss(tape, estimate, clean), static_cast<float>(weights_.image)));
     terms.terms.emplace_back("row_sum", fn::scale(tape, fn::rowSumLoss(tape, networks::toImageRange(tape, estimate), fronts),
                                                   static_cast<float>(weights_.rowSum)));
@@ -178,7 +186,7 @@ LossTerms SvDiffTrainer::recordInitial(Tape& tape, bool guided, const render::Re
   return terms;
 }
 
-LossTerms SvDiffTrainer::recordSequence(Tape& tape, bool guided, const render::RenderSettings& settings) {
+LossTerms SvDiffTrainer::recordSequence(Tape& tape, bool guided, const render::RenderSettings& settings, FrameErrors* errors) {
   struct Conditioned {
     Var side, render;  // the synthesised (or true) side view and the side render of its coarse density
   };
@@ -210,11 +218,13 @@ LossTerms SvDiffTrainer::recordSequence(Tape& tape, bool guided, const render::R
     const Var clean = networks::toDiffusionRange(tape, now.side);
     const Var condition =
         fn::concatChannels(tape, {now.front, previous.side, previous.render, beforePrevious.side, beforePrevious.render});
-    const Var noisy = diffusion::addNoise(tape, clean, noise_[static_cast<std::size_t>(i)], factors_);
-    const Var predicted = synthesizer_.predictNoise(tape, noisy, condition, steps_);
-    noise.push_back(fn::mseLoss(tape, predicted, noise_[static_cast<std::size_t>(i)]));
+    const Var& eps = noise_[static_cast<std::size_t>(i)];
+    const Var noisy = diffusion::addNoise(tape, clean, eps, factors_);
+    const Var predicted = synthesizer_.predict(tape, noisy, condition, steps_);
+    noise.push_back(fn::mseLoss(tape, predicted, diffusion::predictionTarget(tape, synthesizer_.prediction(), clean, eps, factors_)));
+    if (errors && i == 0) *errors = frameErrors(tape, clean, eps, noisy, predicted);
     if (!guided) break;
-    const Var estimate = diffusion::estimateClean(tape, noisy, predicted, factors_);
+    const Var estimate = diffusion::cleanFromPrediction(tape, synthesizer_.prediction(), noisy, predicted, factors_);
     const Var side = networks::toImageRange(tape, estimate);
     image.push_back(fn::mseLoss(tape, estimate, clean));
     rowSum.push_back(fn::rowSumLoss(tape, side, now.front));
@@ -254,10 +264,8 @@ LossTerms SvDiffTrainer::record(Tape& tape, int variant) {
 
 std::vector<Metric> SvDiffTrainer::validate() {
   const int samples = config_.train.validationSamples;
-  const std::vector<int> probes{25, 100, 400, 800};
-  std::vector<double> noiseError(probes.size(), 0.0);
-  double cleanPsnr = 0;
-  std::unique_ptr<Stream> stream;
+  const std::vector<int> probes{25, 100, 400, 800, schedule_.steps() - 1};
+  std::vector<double> noiseError(probes.size(), 0.0), cleanPsnr(probes.size(), 0.0);
   for (int k = 0; k < samples; ++k) {
     const FrameDraw draw = validationFrames(data_.validation(), k, samples, initial_ ? 2 : 1, initial_ ? 0 : 2);
     std::vector<int> frames;
@@ -272,18 +280,22 @@ std::vector<Metric> SvDiffTrainer::validate() {
       Stream s(context_);
       Tape tape(s);
       NoGrad noGrad(tape);
-      // The unguided recording evaluates one frame; the guided one also gives the clean estimate's error.
-      const LossTerms terms = record(tape, variant + 2);
+      // One frame conditioned on the truth (the unguided recording).
+      const render::RenderSettings settings = look_.settings(variant % 2 == 1);
+      FrameErrors errors;
+      if (initial_)
+        recordInitial(tape, false, settings, &errors);
+      else
+        recordSequence(tape, false, settings, &errors);
       s.submit();
-      noiseError[p] += terms.terms[0].second->value.download()[0] / weights_.noise;
-      if (probes[p] == 100) {
-        const double mse = terms.terms[1].second->value.download()[0] / weights_.image / 4.0;  // [-1,1] -> [0,1]
-        cleanPsnr += mse > 0 ? -10 * std::log10(mse) : 100.0;
-      }
+      noiseError[p] += errors.noise->value.download()[0];
+      const double mse = errors.clean->value.download()[0] / 4.0;  // [-1, 1] -> [0, 1]
+      cleanPsnr[p] += mse > 0 ? -10 * std::log10(mse) : 100.0;
     }
   }
   const double n = samples;
-  std::vector<Metric> metrics{{"clean_psnr_at_100", cleanPsnr / n}};
+  std::vector<Metric> metrics;
+  for (std::size_t p = 0; p < probes.size(); ++p) metrics.push_back({"clean_psnr_at_" + std::to_string(probes[p]), cleanPsnr[p] / n});
   for (std::size_t p = 0; p < probes.size(); ++p)
     metrics.push_back({"noise_mse_at_" + std::to_string(probes[p]), noiseError[p] / n});
   return metrics;
@@ -304,7 +316,7 @@ double SvDiffTrainer::forwardFlops() {
   stream.fillZero(condition->value);
   const Var steps = variable(Tensor::fromHost(context_, {1}, std::vector<float>{0.0f}));
   modules::FlopCounter counter;
-  synthesizer_.predictNoise(tape, noisy, condition, steps);
+  synthesizer_.predict(tape, noisy, condition, steps);
   return counter.flops();
 }
 

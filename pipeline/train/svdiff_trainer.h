@@ -2,6 +2,10 @@
 // the step from the simulated densities with the sample's look. A step draws one diffusion step s; with
 // probability TQ / T it is a guided step (s < TQ), otherwise s >= TQ, so s stays uniform on [0, T).
 //
+// L_noise is the MSE of the network's output to its target: the noise eps (options.prediction "epsilon",
+// the paper's) or v = sqrt(abar) eps - sqrt(1 - abar) x0 ("v"; nets/diffusion/prediction.h); x0^ below is
+// the clean estimate that output implies.
+//
 // SvDiff (frames t >= 2): an unguided step trains one frame, L_noise = ||eps - eps^||^2, conditioned on
 // the true side views of t-1 and t-2 and the side renders of the coarse G_rho's densities of them. A
 // guided step runs options.frames frames t .. t+F-1 (the multi-frame scheme): each frame's clean estimate
@@ -16,8 +20,10 @@
 // SvDiff-init (frame pairs t, t+1): x = the two side views, the condition their two front views;
 // L_noise, and on guided steps L_img and L_sp.
 //
-// Validation on held-out frames: the noise MSE at steps 25, 100, 400 and 800, and the PSNR of the clean
-// estimate at step 100 against the true side view.
+// Validation on held-out frames, one frame (SvDiff-init: one pair) conditioned on the truth, at steps 25, 100,
+// 400, 800 and T - 1: the PSNR of the clean estimate against the true side view (at T - 1 the noisy input
+// holds almost nothing of it: the estimate is the model's guess from the condition alone) and the MSE of the
+// noise the prediction implies.
 #pragma once
 
 #include <memory>
@@ -62,9 +68,14 @@ class SvDiffTrainer : public StageTrainer {
   // Uploads the densities of `frames` frames from `first` (SvDiff) or pairs (SvDiff-init), the noise and step.
   int upload(const dataset::SceneEntry& scene, const std::vector<int>& frames, const Augmentation& a, int step,
              diffusion::Gaussian& random);
+  // The first frame's errors (validation): MSE of the noise the prediction implies and of the clean estimate.
+  struct FrameErrors {
+    Var noise, clean;
+  };
+  FrameErrors frameErrors(Tape& tape, const Var& clean, const Var& noise, const Var& noisy, const Var& predicted);
   FrontSide frontSide(Tape& tape, const Var& density, const render::RenderSettings& settings);
-  LossTerms recordInitial(Tape& tape, bool guided, const render::RenderSettings& settings);
-  LossTerms recordSequence(Tape& tape, bool guided, const render::RenderSettings& settings);
+  LossTerms recordInitial(Tape& tape, bool guided, const render::RenderSettings& settings, FrameErrors* errors = nullptr);
+  LossTerms recordSequence(Tape& tape, bool guided, const render::RenderSettings& settings, FrameErrors* errors = nullptr);
   int framesPerSample() const;
 
   Context& context_;

@@ -43,8 +43,9 @@ void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& actio
       reconstruct::MethodModels models(context, a.models.empty() ? reconstruct::defaultModelsFolder(a.preset) : std::filesystem::path(a.models), p);
       const reconstruct::RolloutResult r = reconstruct::sideViewRollout(context, models, data, a.frames, a.scenes, a.sampling);
       std::cout << "side views over " << a.frames << " frames of " << r.scenes << " held-out scenes: PSNR " << r.mean()
-                << " dB (mirrored front view " << r.mirroredMean() << " dB); first 10 frames " << r.firstTen()
-                << " dB, last 10 " << r.lastTen() << " dB\n";
+                << " dB (mirrored front view " << r.mirroredMean() << " dB, all-black " << r.blackMean()
+                << " dB); first 10 frames " << r.firstTen() << " dB (mirrored " << r.mirroredFirstTen() << "), last 10 "
+                << r.lastTen() << " dB (mirrored " << r.mirroredLastTen() << ")\n";
       if (!a.out.empty())
         io::writeAtomically(a.out, [&](const std::filesystem::path& tmp) { std::ofstream(tmp) << r.toJson().dump(2) << "\n"; });
     };

@@ -233,7 +233,7 @@ TEST_P(PyTorchTwinTest, ReproducesTheNetwork) {
                                         given("t", {2}, {3, 917})));
   const Var noisy = input("noisy", {2, samples, h, w}, -1, 1);
   const Var condition = input("condition", {2, conditions, h, w}, 0, 1);
-  expect("eps", synthesizer.predictNoise(tape, noisy, condition, given("steps", {2}, {41, 650})));
+  expect("eps", synthesizer.predict(tape, noisy, condition, given("steps", {2}, {41, 650})));
   stream.submit();
   compareWithTwin(synthesizer.net());
 }
