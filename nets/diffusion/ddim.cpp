@@ -26,6 +26,7 @@ std::vector<int> ddimSteps(int trainSteps, int samplingSteps, int start) {
   const int span = start < 0 ? trainSteps : std::min(start + 1, trainSteps);
   if (samplingSteps < 1 || samplingSteps > span)
     throw Error("DDIM: sampling steps must be in [1, " + std::to_string(span) + "]");
+  if (samplingSteps == 1) return {span - 1};
   const int stride = span / samplingSteps;
   std::vector<int> steps;
   for (int i = 0; i < samplingSteps; ++i) steps.push_back(i * stride);

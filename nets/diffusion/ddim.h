@@ -7,8 +7,10 @@
 //   x_t'   = sqrt(abar_t') x0^ + sqrt(1 - abar_t' - sigma^2) eps + sigma z,   z ~ N(0, I)
 // eta = 0 is deterministic (DDIM), eta = 1 the DDPM-like ancestral sampler the released SmokeSVD
 // code uses. The step sequence is uniform: 0, k, 2k, ... with k = T / S (the DDIM code's "uniform"
-// skip), run from the highest step down. Everything random comes from the seed, so a seed gives the
-// same sample.
+// skip), run from the highest step down; S = 1 is the one step from the highest step T - 1 (or `start`),
+// whose result is the clean estimate x0^ there (for a model trained to predict it well at T - 1, v
+// prediction, the posterior mean of the data given the condition). Everything random comes from the seed,
+// so a seed gives the same sample.
 // A start below T - 1 (SDEdit, Meng et al. 2022) samples from a given image instead of pure noise: the
 // S steps are spread over [0, start] (k = floor((start + 1) / S)) and the state begins as
 //   x = sqrt(abar_top) x_start + sqrt(1 - abar_top) z,   top = (S - 1) k, the highest step visited,
@@ -34,7 +36,7 @@ struct DdimOptions {
 };
 
 // The S steps the sampler visits, ascending: 0, k, 2k, ..., (S - 1) k with k = floor((start + 1) / S);
-// start -1 is trainSteps - 1 (k = floor(T / S)).
+// start -1 is trainSteps - 1 (k = floor(T / S)). S = 1 visits the highest step alone (start, or T - 1).
 std::vector<int> ddimSteps(int trainSteps, int samplingSteps, int start = -1);
 
 // What the sampler needs of a model: record the noise prediction for the state x once; before each

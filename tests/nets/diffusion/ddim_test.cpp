@@ -94,6 +94,9 @@ TEST(NoiseScheduleTest, UniformDdimStepsFollowTheReferenceStride) {
   EXPECT_EQ(fromStart.back(), 380);
   EXPECT_EQ(diffusion::ddimSteps(1000, 20, 999), diffusion::ddimSteps(1000, 20));
   EXPECT_THROW(diffusion::ddimSteps(1000, 402, 400), Error);
+  // One step is the clean estimate from the highest step.
+  EXPECT_EQ(diffusion::ddimSteps(1000, 1), std::vector<int>{999});
+  EXPECT_EQ(diffusion::ddimSteps(1000, 1, 400), std::vector<int>{400});
 }
 
 TEST(NoiseScheduleTest, CleanEstimateInvertsTheForwardProcess) {
