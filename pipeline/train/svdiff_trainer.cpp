@@ -53,11 +53,17 @@ SvDiffTrainer::SvDiffTrainer(Context& context, const networks::NetworkConfig& co
   } else {
     models::requireKnownKeys(config.loss, {"noise", "image", "row_sum", "velocity"}, lossWhere);
     models::requireKnownKeys(config.options, {"diffusion_steps", "beta_start", "beta_end", "prediction",
-                                              "guidance_threshold", "coarse_model", "frames", "multi_frame", "guidance",
-                                              "velocity_model"},
+                                              "guidance_threshold", "coarse_model", "frames", "multi_frame",
+                                              "multi_frame_steps", "guidance", "velocity_model"},
                              optionsWhere);
     frames_ = static_cast<int>(networks::integer(config.options, "frames", optionsWhere));
     multiFrame_ = networks::flag(config.options, "multi_frame", optionsWhere);
+    if (config.options.contains("multi_frame_steps")) {
+      const std::string steps = networks::text(config.options, "multi_frame_steps", optionsWhere);
+      if (steps != "guided" && steps != "all")
+        throw Error(optionsWhere + ": 'multi_frame_steps' must be \"guided\" or \"all\", not \"" + steps + "\"");
+      multiFrameEveryStep_ = steps == "all";
+    }
     if (frames_ < 1) throw Error(optionsWhere + ": 'frames' must be at least 1");
     if (config.train.batch != 1) throw Error(config.source + " [train]: SvDiff trains with batch 1 (one frame sequence)");
   }
@@ -211,7 +217,8 @@ LossTerms SvDiffTrainer::recordSequence(Tape& tape, bool guided, const render::R
     previous = {truth[1].side, sideRender(density1)};
     previousDensity = density1;
   }
-  const int frames = guided && multiFrame_ ? frames_ : 1;
+  const bool chained = multiFrame_ && (guided || multiFrameEveryStep_);
+  const int frames = chained ? frames_ : 1;
   std::vector<Var> noise, image, rowSum, velocity;
   for (int i = 0; i < frames; ++i) {
     const FrontSide& now = truth[static_cast<std::size_t>(i + 2)];
@@ -223,13 +230,16 @@ LossTerms SvDiffTrainer::recordSequence(Tape& tape, bool guided, const render::R
     const Var predicted = synthesizer_.predict(tape, noisy, condition, steps_);
     noise.push_back(fn::mseLoss(tape, predicted, diffusion::predictionTarget(tape, synthesizer_.prediction(), clean, eps, factors_)));
     if (errors && i == 0) *errors = frameErrors(tape, clean, eps, noisy, predicted);
-    if (!guided) break;
+    const bool last = i + 1 == frames;
+    if (!guided && last) break;
     const Var estimate = diffusion::cleanFromPrediction(tape, synthesizer_.prediction(), noisy, predicted, factors_);
     const Var side = networks::toImageRange(tape, estimate);
-    image.push_back(fn::mseLoss(tape, estimate, clean));
-    rowSum.push_back(fn::rowSumLoss(tape, side, now.front));
+    if (guided) {
+      image.push_back(fn::mseLoss(tape, estimate, clean));
+      rowSum.push_back(fn::rowSumLoss(tape, side, now.front));
+    }
     const Var density = coarse(now.front, side);
-    if (velocity_) {
+    if (guided && velocity_) {
       const Var u = velocity_->forward(tape, previousDensity, density).velocity;
       const Var divergence = diff::divergence(tape, u, physics::Staggering::Centred);
       velocity.push_back(fn::reshape(tape,

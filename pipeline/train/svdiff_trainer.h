@@ -16,6 +16,9 @@
 // each averaged over the frames, gradients flowing through the frozen G_rho and G_u and along the chain.
 // options.multi_frame = false conditions every frame on the true side views instead (the ablation);
 // options.guidance = false drops the guidance losses (and with them the guided steps).
+// options.multi_frame_steps = "all" (beyond the paper; default "guided") runs the F-frame chain on unguided
+// steps too (s >= TQ, L_noise only): there x0^ is far from the truth (at s near T the model's guess from the
+// condition alone), so the later frames learn from conditions as wrong as their own earlier outputs.
 //
 // SvDiff-init (frame pairs t, t+1): x = the two side views, the condition their two front views;
 // L_noise, and on guided steps L_img and L_sp.
@@ -85,6 +88,7 @@ class SvDiffTrainer : public StageTrainer {
   Weights weights_{};
   int frames_ = 4;
   bool multiFrame_ = true, guidance_ = true;
+  bool multiFrameEveryStep_ = false;  // options.multi_frame_steps == "all"
   int threshold_ = 200;
   int batch_ = 1;
   diffusion::NoiseSchedule schedule_;

@@ -225,6 +225,43 @@ TEST_F(TrainingTest, ARecordedStepResubmittedOnAnotherSampleGivesThatSamplesLoss
   expectRecordingsFollowTheirSamples(fine, 3);
 }
 
+// SvDiff with options.multi_frame_steps "all" chains its frames on unguided steps too: on the same sample, its
+// unguided noise term averages the F frames (the first of which is the paper's one frame, the others
+// conditioned on the estimates before them), so it differs from the paper's; the guidance terms stay zero.
+TEST_F(TrainingTest, SvDiffChainsItsFramesOnUnguidedStepsWhenAsked) {
+  dataset::DatasetOptions options;
+  options.validationEvery = 4;
+  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  auto unguidedTerms = [&](const std::string& steps) {
+    networks::NetworkConfig config = tinyConfig(networks::Network::SvDiff, 3);
+    config.options["multi_frame_steps"] = steps;
+    const auto trainer = train::makeTrainer(testContext(), config, data, tinyModels());
+    for (int64_t step = 0;; ++step) {
+      diffusion::Gaussian random = train::stepRandom(5, step);
+      const int variant = trainer->prepare(step, random);
+      if (trainer->variants()[static_cast<std::size_t>(variant)].rfind("unguided", 0) != 0) continue;
+      Stream stream(testContext());
+      Tape tape(stream);
+      const train::LossTerms terms = trainer->record(tape, variant);
+      stream.submit();
+      std::map<std::string, float> values;
+      for (const auto& [name, term] : terms.terms) values[name] = term->value.download()[0];
+      return values;
+    }
+  };
+  const auto paper = unguidedTerms("guided"), chained = unguidedTerms("all");
+  EXPECT_GT(chained.at("noise"), 0.0f);
+  EXPECT_NE(chained.at("noise"), paper.at("noise"));
+  for (const char* guidance : {"image", "row_sum", "velocity"}) {
+    EXPECT_EQ(paper.at(guidance), 0.0f) << guidance;
+    EXPECT_EQ(chained.at(guidance), 0.0f) << guidance;
+  }
+  networks::NetworkConfig bad = tinyConfig(networks::Network::SvDiff, 2);
+  bad.options["multi_frame_steps"] = "some";
+  expectRefused(bad, "svdiff_bad_multi_frame_steps", "'multi_frame_steps' must be \"guided\" or \"all\", not \"some\"",
+                "multi_frame_steps \"some\"");
+}
+
 // The fine G_rho trained on the views the reconstruction gives it (the coarse G_rho's renders at the 14
 // other slots): it trains, and validation says what it gains over the coarse density it was given.
 TEST_F(TrainingTest, FineDensityTrainsOnInferenceLikeViews) {
