@@ -10,12 +10,13 @@ Usage as a module (from tools/compare/, or with that folder on sys.path):
     model = sm.load_model("run/grho-fine")          # a folder with config.json and model.safetensors
     density = model(lifted, presence)                # UNet3+: x [N, C, (D,) H, W] (+ presence [N, slots])
     y, heads = model(lifted, presence, deep_supervision=True)
-    eps = svdiff(x, t)                               # DDPM UNet: x [N, C, H, W], t [N] diffusion steps
+    out = svdiff(x, t)                               # DDPM UNet: x [N, C, H, W], t [N] diffusion steps -> eps or v
     model = sm.build_model(json.load(open("config.json")))   # a whole config or its "model" section
     sm.save_weights(model, "model.safetensors")      # state_dict back to smokesvd (F32, same names)
 
 The networks as the pipeline feeds them (inputs in the networks' units, docs/models.md) are the
-functions density_generator, velocity_generator, refine and predict_side_view_noise.
+functions density_generator, velocity_generator, refine and predict_side_view; side_view_estimates turns a
+side-view model's output (the noise eps, or v: the config's options.prediction) into the noise and clean image.
 
 Usage from the command line (arrays in .npz files; outputs float32):
 
@@ -31,7 +32,7 @@ in.npz may hold the architecture's input, the network's inputs, or both; out.npz
         nvref:                   render, minus, plus, previous, before_previous [N, 1, h, w]
                                                                       -> refined, residual [N, 1, h, w]
         svdiff, svdiff-init:     noisy [N, S, h, w] in [-1, 1], condition [N, C, h, w] in [0, 1], steps [N]
-                                                                      -> eps [N, S, h, w]
+                                 -> prediction (the output: eps or v), eps and clean (x0), each [N, S, h, w]
 MODEL_DIR holds config.json and model.safetensors (what `smokesvd train` writes).
 """
 
@@ -240,7 +241,8 @@ class ResnetBlock(nn.Module):
 
 
 class DdpmUNet(nn.Module):
-    """eps = UNet(x, t); every spatial size must be divisible by 2^(L-1)."""
+    """out = UNet(x, t) (eps or v, as the config's options.prediction says); every spatial size must be divisible
+    by 2^(L-1)."""
 
     def __init__(self, in_channels, out_channels, channels, channel_mult, res_blocks, groups, dropout=0.0):
         super().__init__()
@@ -372,9 +374,27 @@ def refine(model, render, minus, plus, previous, before_previous):
     return render + residual, residual
 
 
-def predict_side_view_noise(model, noisy, condition, steps):
-    """SvDiff / SvDiff-init: noisy [N, S, h, w] in [-1, 1], condition [N, C, h, w] in [0, 1], steps [N]."""
+def predict_side_view(model, noisy, condition, steps):
+    """SvDiff / SvDiff-init: noisy [N, S, h, w] in [-1, 1], condition [N, C, h, w] in [0, 1], steps [N] -> the
+    network's output: the noise eps, or v = sqrt(abar) eps - sqrt(1 - abar) x0 (options.prediction "v")."""
     return model(torch.cat([noisy, 2 * condition - 1], 1), steps)
+
+
+def side_view_estimates(config, noisy, output, steps):
+    """(eps, x0) that a side-view model's output implies for noisy [N, S, h, w] at integer steps [N], with the
+    config's linear schedule (options diffusion_steps, beta_start, beta_end; abar_s = prod_{k<=s} (1 - beta_k)):
+        epsilon: eps = out,                        x0 = (x - sqrt(1 - abar) eps) / sqrt(abar)
+        v:       eps = sqrt(1 - abar) x + sqrt(abar) out,   x0 = sqrt(abar) x - sqrt(1 - abar) out"""
+    options = config["options"]
+    betas = np.linspace(options["beta_start"], options["beta_end"], options["diffusion_steps"], dtype=np.float64)
+    abar = torch.from_numpy(np.cumprod(1.0 - betas))[steps.long()].to(noisy.dtype).reshape(-1, 1, 1, 1)
+    a, b = abar.sqrt(), (1 - abar).sqrt()
+    prediction = options.get("prediction", "epsilon")
+    if prediction == "epsilon":
+        return output, (noisy - b * output) / a
+    if prediction == "v":
+        return b * noisy + a * output, a * noisy - b * output
+    raise ValueError(f"options.prediction must be 'epsilon' or 'v', not {prediction!r}")
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -392,7 +412,8 @@ _NETWORK_INPUTS = {"grho-coarse": ["lifted", "presence"], "grho-fine": ["lifted"
                    "svdiff": ["noisy", "condition", "steps"], "svdiff-init": ["noisy", "condition", "steps"]}
 
 
-def _network_outputs(network, model, inputs):
+def _network_outputs(config, model, inputs):
+    network = config.get("network")
     if network in ("grho-coarse", "grho-fine"):
         return {"density": density_generator(model, *inputs)}
     if network == "gu":
@@ -400,7 +421,10 @@ def _network_outputs(network, model, inputs):
     if network == "nvref":
         refined, residual = refine(model, *inputs)
         return {"refined": refined, "residual": residual}
-    return {"eps": predict_side_view_noise(model, *inputs)}
+    noisy, steps = inputs[0], inputs[2]
+    output = predict_side_view(model, *inputs)
+    eps, clean = side_view_estimates(config, noisy, output, steps)
+    return {"prediction": output, "eps": eps, "clean": clean}
 
 
 def _architecture_outputs(model, arrays, dtype, deep_supervision):
@@ -424,7 +448,8 @@ def main(argv):
     parser.add_argument("--save-weights", metavar="PATH", help="also write the loaded model's state_dict (F32) to PATH")
     args = parser.parse_args(argv)
     dtype = getattr(torch, args.dtype)
-    network = read_config(args.model_dir).get("network")
+    config = read_config(args.model_dir)
+    network = config.get("network")
     model = load_model(args.model_dir, dtype)
     if args.save_weights:
         save_weights(model, args.save_weights)
@@ -436,7 +461,7 @@ def main(argv):
             outputs.update(_architecture_outputs(model, arrays, dtype, args.deep_supervision))
         keys = _NETWORK_INPUTS.get(network, [])
         if keys and any(key in arrays for key in keys):
-            outputs.update(_network_outputs(network, model, [_tensor(arrays, key, dtype) for key in keys]))
+            outputs.update(_network_outputs(config, model, [_tensor(arrays, key, dtype) for key in keys]))
     if not outputs:
         raise ValueError(f"{args.inputs}: neither the architecture's input 'x' nor the inputs of network "
                          f"{network!r} ({', '.join(keys) or 'none known'})")

@@ -224,16 +224,24 @@ TEST_P(PyTorchTwinTest, ReproducesTheNetwork) {
     compareWithTwin(refiner.net());
     return;
   }
+  // SvDiff predicting v, SvDiff-init the noise: the twin turns either output into the noise and clean image.
   const bool initial = network == Network::SvDiffInit;
+  if (!initial) config_.options["prediction"] = "v";
   const int samples = initial ? 2 : 1, conditions = initial ? 2 : 5;
+  const networks::DiffusionSettings diffusion = networks::diffusionSettings(config_);
   networks::SideViewSynthesizer synthesizer(context(), models::ddpmUNetFromJson(config_.model, where), samples,
-                                            conditions);
+                                            conditions, diffusion.prediction);
   randomizeEveryParameter(synthesizer.net(), 4);
   expect("y", synthesizer.net().forward(tape, input("x", {2, samples + conditions, h, w}, -1, 1),
                                         given("t", {2}, {3, 917})));
   const Var noisy = input("noisy", {2, samples, h, w}, -1, 1);
   const Var condition = input("condition", {2, conditions, h, w}, 0, 1);
-  expect("eps", synthesizer.predict(tape, noisy, condition, given("steps", {2}, {41, 650})));
+  const Var prediction = synthesizer.predict(tape, noisy, condition, given("steps", {2}, {41, 650}));
+  const diffusion::StepFactorTensors factors(context(), 2);
+  factors.upload(diffusion::stepFactors(diffusion.schedule, std::vector<int>{41, 650}));
+  expect("prediction", prediction);
+  expect("eps", diffusion::noiseFromPrediction(tape, diffusion.prediction, noisy, prediction, factors));
+  expect("clean", diffusion::cleanFromPrediction(tape, diffusion.prediction, noisy, prediction, factors));
   stream.submit();
   compareWithTwin(synthesizer.net());
 }
