@@ -30,7 +30,7 @@ train() {
   shift
   run "$network" "$MODELS/$network" --preset "$PRESET" "$@"
 }
-# The shipped small svdiff, and the first G_u that its guidance ran, were trained for fewer steps than their
+# The shipped small svdiff's epsilon stage, and the first G_u that its guidance ran, were trained for fewer steps than their
 # configs say (docs/models.md, "Training"); SHIPPED_STEPS=0 trains every network for its config's steps.
 shortened() {
   if [ "$PRESET" = small ] && [ "${SHIPPED_STEPS:-1}" = 1 ]; then echo --steps "$1"; fi
@@ -45,8 +45,8 @@ ship() {
 }
 train grho-coarse
 train grho-fine --init "$MODELS/grho-coarse/model.safetensors"
-# The small preset's first G_u is the narrow one (models/configs/small/gu-narrow.json): svdiff's guidance was
-# trained through it, and the shipped G_u (twice as wide) replaces it below.
+# The small preset's first G_u is the narrow one (models/configs/small/gu-narrow.json): svdiff's epsilon stage's
+# guidance was trained through it, and the shipped G_u (twice as wide) replaces it below.
 if [ "$PRESET" = small ]; then
   run gu "$MODELS/gu" --config models/configs/small/gu-narrow.json $(shortened 2500)
 else
@@ -63,8 +63,15 @@ if [ "$PRESET" = small ]; then
 else
   train nvref
 fi
-train svdiff-init
-train svdiff $(shortened 1200)
+# The small SvDiff-init and SvDiff are first trained to predict the noise (the paper's epsilon), then continued
+# below to predict v, as the shipped weights do (docs/models.md, "SvDiff predicts v").
+if [ "$PRESET" = small ]; then
+  run svdiff-init "$STAGES/svdiff-init-epsilon" --config models/configs/small/svdiff-init-epsilon.json
+  run svdiff "$STAGES/svdiff-epsilon" --config models/configs/small/svdiff-epsilon.json $(shortened 1200)
+else
+  train svdiff-init
+  train svdiff
+fi
 # Two continuations of grho-fine's first run (above; all 16 true views, which gu fine-tuned on), both small only:
 # - grho-fine-true-views, on 16 true views with the renders weighted 4 (docs/models.md, "The fine G_ρ on true
 #   views"); the reconstruction does not use it;
@@ -80,6 +87,10 @@ if [ "$PRESET" = small ]; then
   # true densities (docs/models.md, "The shipped G_u").
   run gu "$STAGES/gu" --preset small --seed 91
   ship "$STAGES/gu" gu model_card.md  # the narrow G_u's card does not describe these weights
+  # The shipped SvDiff-init and SvDiff: the preset's configs (v prediction), from the epsilon runs above; SvDiff's
+  # guidance runs through the shipped G_u.
+  train svdiff-init --seed 5 --init "$STAGES/svdiff-init-epsilon/model.safetensors"
+  train svdiff --seed 5 --init "$STAGES/svdiff-epsilon/model.safetensors"
 fi
 # The shipped folder keeps what a user needs: each network's weights, config and model card, and the
 # loss curve; the logs stay beside them.

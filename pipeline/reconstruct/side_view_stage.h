@@ -3,9 +3,10 @@
 // together from SvDiff-init, conditioned on their two front views (a one-frame clip uses its only frame
 // twice). The sample is mapped back to [0, 1] and clamped. `synthesize = false` (the ablation and
 // baseline) takes the front view mirrored left to right as the side view instead.
-// `start` below T - 1 samples from the mirrored front view(s) noised to that step (SDEdit; the DDIM steps
-// spread over [0, start]) instead of from pure noise (-1, the paper's sampler): docs/reconstruction.md
-// says why the shipped small weights need it. With `samples` K > 1 the side view is the mean of K samples
+// By default each sample starts from pure noise (-1, the paper's sampler); `start` below T - 1 starts from
+// the mirrored front view(s) noised to that step instead (SDEdit; the DDIM steps spread over [0, start]),
+// which a model that predicts the noise poorly at high steps needs (docs/reconstruction.md). One DDIM step
+// gives the model's clean estimate from pure noise alone. With `samples` K > 1 the side view is the mean of K samples
 // (seeds seed + t + k * 2^32, k = 0..K-1): a Monte-Carlo estimate of the posterior mean E[w | condition],
 // the image of least expected squared error, blurrier than any one sample.
 #pragma once
@@ -23,7 +24,7 @@ struct SideViewOptions {
   int steps = 20;       // DDIM steps for frames t >= 2
   int initSteps = 50;   // DDIM steps for frames 0 and 1
   double eta = 1.0;
-  int start = 400;      // the DDIM start step: -1 pure noise (T - 1), lower from the mirrored front view
+  int start = -1;       // the DDIM start step: -1 pure noise (T - 1), lower from the mirrored front view
   uint64_t seed = 0;    // frame t samples with seed + t
   int samples = 1;      // the side view is the mean of this many samples
 };
