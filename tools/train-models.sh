@@ -30,8 +30,8 @@ train() {
   shift
   run "$network" "$MODELS/$network" --preset "$PRESET" "$@"
 }
-# The shipped small svdiff's epsilon stage, and the first G_u that its guidance ran, were trained for fewer steps than their
-# configs say (docs/models.md, "Training"); SHIPPED_STEPS=0 trains every network for its config's steps.
+# The shipped small svdiff's epsilon stage, and the first G_u that its guidance ran, were trained for fewer steps
+# than their configs say (docs/models.md, "Training"); SHIPPED_STEPS=0 trains every network for its config's steps.
 shortened() {
   if [ "$PRESET" = small ] && [ "${SHIPPED_STEPS:-1}" = 1 ]; then echo --steps "$1"; fi
 }
