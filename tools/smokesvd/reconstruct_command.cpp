@@ -115,7 +115,9 @@ void addReconstructCommand(CLI::App& app, const GlobalOptions& global, Action& a
   c->add_option("--background", a.background, "level (default: one black level) or first (frame 0 per pixel)");
   c->add_option("--threshold", a.threshold, "noise floor after normalisation (default 0.02)")->check(number(0, 1));
   c->add_option("--target", a.target, "the level the footage's 99.9th percentile maps to (default 0.9)")->check(positiveNumber(1e6));
-  c->add_option("--side-view", a.sideView, "synthesize (SvDiff, default) or mirror (the mirrored front view; a baseline)");
+  c->add_option("--side-view", a.sideView,
+                "synthesize (SvDiff, default) or mirror (the mirrored front view: the baseline, and with the shipped "
+                "small weights the better side view on real footage; docs/evaluation.md)");
   c->add_option("--side-views", a.sideViews,
                 "side views given, not synthesised (a true side view as an oracle, or a second camera at 90 degrees): "
                 "a video, PNG folder or image stack, read like the input with box framing, one per frame");
