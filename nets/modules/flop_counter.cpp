@@ -9,8 +9,18 @@ FlopCounter::FlopCounter() : outer_(innermost) { innermost = this; }
 
 FlopCounter::~FlopCounter() { innermost = outer_; }
 
-void FlopCounter::count(double flops) {
-  for (FlopCounter* counter = innermost; counter != nullptr; counter = counter->outer_) counter->flops_ += flops;
+void FlopCounter::count(double flops, int backwardPasses) {
+  for (FlopCounter* counter = innermost; counter != nullptr; counter = counter->outer_) {
+    counter->flops_ += flops;
+    counter->backwardFlops_ += backwardPasses * flops;
+  }
+}
+
+int backwardPasses(const Var& y, const std::vector<Var>& inputs, const Var& weight) {
+  if (!y->requiresGrad) return 0;
+  bool input = false;
+  for (const Var& x : inputs) input = input || x->requiresGrad;
+  return (input ? 1 : 0) + (weight->requiresGrad ? 1 : 0);
 }
 
 }  // namespace smokesvd::modules

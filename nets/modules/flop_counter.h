@@ -1,13 +1,19 @@
 // Counts the arithmetic of the convolutions and linear layers that forward passes record while a
-// counter is alive, for cost reports (GFLOP per forward). A multiply-add is two FLOPs:
-//   convolution  2 * output elements * input channels * kernel elements
-//   linear       2 * output elements * input features
+// counter is alive, for cost reports (GFLOP per forward, per training step). A multiply-add is two FLOPs:
+//   convolution  F = 2 * output elements * input channels * kernel elements
+//   linear       F = 2 * output elements * input features
+// and a layer whose output needs a gradient adds F to the backward FLOPs for each of its input and its
+// weight that needs one (the backward-input and backward-weight passes each cost as much as the forward).
 // Everything else a network does (activations, norms, resampling) is memory-bound and not counted.
 //
 //   modules::FlopCounter counter;          // counts on this thread while alive; counters may nest
 //   net.forward(tape, x);
 //   double gflop = counter.flops() * 1e-9;
 #pragma once
+
+#include <vector>
+
+#include "nets/autograd/variable.h"
 
 namespace smokesvd::modules {
 
@@ -19,13 +25,20 @@ class FlopCounter {
   FlopCounter& operator=(const FlopCounter&) = delete;
 
   double flops() const { return flops_; }
+  double backwardFlops() const { return backwardFlops_; }
 
-  // Adds to every live counter on this thread (Conv and Linear call it from forward).
-  static void count(double flops);
+  // Adds a layer's forward FLOPs, and `backwardPasses` times as many backward FLOPs, to every live
+  // counter on this thread (Conv and Linear call it from forward).
+  static void count(double flops, int backwardPasses = 0);
 
  private:
   double flops_ = 0;
+  double backwardFlops_ = 0;
   FlopCounter* outer_ = nullptr;
 };
+
+// The backward passes a layer with output y records: one to its inputs and one to its weight, each where a
+// gradient is needed; none when y needs no gradient (a frozen layer on inputs that need none, or NoGrad).
+int backwardPasses(const Var& y, const std::vector<Var>& inputs, const Var& weight);
 
 }  // namespace smokesvd::modules

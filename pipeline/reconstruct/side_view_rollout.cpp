@@ -35,6 +35,7 @@ double RolloutResult::mirroredLastTen() const {
 
 nlohmann::json RolloutResult::toJson() const {
   return {{"scenes", scenes},
+          {"history", trueHistory ? "truth" : "own"},
           {"frames", psnr.size()},
           {"psnr_mean", mean()},
           {"psnr_mirrored_front_mean", mirroredMean()},
@@ -49,9 +50,10 @@ nlohmann::json RolloutResult::toJson() const {
 }
 
 RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int frames,
-                              int scenes, const SideViewOptions& options) {
+                              int scenes, const SideViewOptions& options, RolloutHistory history) {
   const Preset& preset = data.preset();
   RolloutResult result;
+  result.trueHistory = history == RolloutHistory::Truth;
   result.psnr.assign(static_cast<std::size_t>(frames), 0.0);
   result.mirrored.assign(static_cast<std::size_t>(frames), 0.0);
   result.black.assign(static_cast<std::size_t>(frames), 0.0);
@@ -74,12 +76,14 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
       const Tensor front = Tensor::fromHost(context, image, fronts[static_cast<std::size_t>(t)].values);
       const Tensor next = Tensor::fromHost(context, image, fronts[static_cast<std::size_t>(std::min(t + 1, frames - 1))].values);
       const Tensor side = sideView(context, models, state, t, front, next, options);
+      // What the next frames are conditioned on: this side view, or with true history the true one.
+      const Tensor conditioning = result.trueHistory ? Tensor::fromHost(context, image, sides[static_cast<std::size_t>(t)].values) : side;
       Stream stream(context);
       Tape tape(stream);
       NoGrad noGrad(tape);
       const Var coarse = models.coarse->forward(tape,
                                                 models.coarse->slotImages(tape, {{networks::kFrontSlot, variable(front)},
-                                                                                 {networks::kSideSlot, variable(side)}}),
+                                                                                 {networks::kSideSlot, variable(conditioning)}}),
                                                 variable(Tensor::fromHost(context, {networks::kSlots}, [] {
                                                   std::vector<float> p(networks::kSlots, 0.0f);
                                                   p[networks::kFrontSlot] = p[networks::kSideSlot] = 1.0f;
@@ -89,7 +93,7 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
       const Var render = diff::render(tape, coarse, sideCamera, look);
       stream.copy(state.side1, state.side2);
       stream.copy(state.sideRender1, state.sideRender2);
-      stream.copy(side, state.side1);
+      stream.copy(conditioning, state.side1);
       stream.copy(render->value, state.sideRender1);
       stream.submit();
       const std::vector<float> synthesized = side.download();

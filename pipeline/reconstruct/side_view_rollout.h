@@ -6,6 +6,10 @@
 // all-black floor (on mostly black images an all-black side view scores high).
 // Front and side views are renders of the simulated densities with each scene's look in the networks'
 // units (pipeline/dataset/scene_dataset.h).
+// With RolloutHistory::Truth every frame is conditioned instead on the true side views of the previous
+// frames and the renders of their densities reconstructed from them (teacher forcing): what each frame's
+// synthesis gets right from true history, to tell errors that accumulate over the rollout (drift) from
+// frames that are harder in themselves.
 #pragma once
 
 #include <vector>
@@ -21,6 +25,7 @@ namespace smokesvd::reconstruct {
 struct RolloutResult {
   std::vector<double> psnr, mirrored, black;  // per frame, mean over scenes
   int scenes = 0;
+  bool trueHistory = false;  // conditioned on the true side views of the previous frames
   double mean() const;
   double mirroredMean() const;
   double blackMean() const;
@@ -31,8 +36,10 @@ struct RolloutResult {
   nlohmann::json toJson() const;
 };
 
+enum class RolloutHistory { Own, Truth };
+
 // Rolls out `frames` frames on up to `scenes` validation scenes that have that many frames.
 RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int frames,
-                              int scenes, const SideViewOptions& options);
+                              int scenes, const SideViewOptions& options, RolloutHistory history = RolloutHistory::Own);
 
 }  // namespace smokesvd::reconstruct

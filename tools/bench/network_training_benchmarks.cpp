@@ -7,17 +7,20 @@
 // The data are two scenes simulated at the preset into a scratch folder (one for training, one held
 // out), the networks a trainer runs frozen (G_rho for NvRef and SvDiff, G_u for SvDiff's guidance, the
 // fine G_rho for G_u's fine-tuning) are trained one step there first: the step's cost depends on their
-// architectures, not on their weights. FLOPs count the trained network alone, three times its forward
-// (the forward, the backward to the inputs and to the weights, modules::FlopCounter); the frozen networks,
-// renders and advection a step also runs are in its time but not in its FLOPs, so %peak understates such
-// a step. A step is long, so each is timed over 1 warm-up and at most 5 runs. Where the device cannot hold
-// a step (a tensor past its buffer limit, memory exhausted) the line says so instead of a time.
+// architectures, not on their weights. FLOPs are the whole step's, counted on its recording
+// (modules::FlopCounter): every convolution and linear layer it runs, the trained network's and the frozen
+// ones', forward, and each backward pass it records (to the inputs, to the weights); renders, advection,
+// activations and the optimiser are memory-bound and in the time only. The shape column gives the trained
+// network's share. A step is long, so each is timed over 1 warm-up and at most 5 runs. Where the device
+// cannot hold a step (a tensor past its buffer limit, memory exhausted) the line says so instead of a time.
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <string>
 
 #include "nets/io/temporary_folder.h"
+#include "nets/modules/flop_counter.h"
 #include "nets/optim/adam.h"
 #include "nets/optim/ema.h"
 #include "nets/optim/grad_clip.h"
@@ -135,10 +138,10 @@ void measureNetwork(BenchContext& b, networks::Network network, const std::strin
     const optim::Adam adam(context, parameters, train::adamWOptions(t));
     const optim::GradClip clip(context, t.clip);
     const optim::Ema ema(context, parameters, t.ema);
-    const double flops = 3 * trainer->forwardFlops();
+    const double networkForward = trainer->forwardFlops();
     const GridSize grid = preset(presetName).grid;
-    const std::string shape = "batch " + std::to_string(t.batch) + ", " + std::to_string(grid.x) + "x" +
-                              std::to_string(grid.y) + "x" + std::to_string(grid.z);
+    const std::string batchAndGrid = "batch " + std::to_string(t.batch) + ", " + std::to_string(grid.x) + "x" +
+                                     std::to_string(grid.y) + "x" + std::to_string(grid.z);
     const std::vector<std::string> variants = trainer->variants();
     std::vector<bool> measured(variants.size(), false);
     const StepTiming timing(b);
@@ -150,10 +153,16 @@ void measureNetwork(BenchContext& b, networks::Network network, const std::strin
       if (measured.at(static_cast<std::size_t>(variant))) continue;
       measured[static_cast<std::size_t>(variant)] = true;
       const std::string name = variants.size() == 1 ? base : base + ":" + variants[static_cast<std::size_t>(variant)];
-      b.measureStep(name, shape, flops, {}, [&](Stream& stream) {
+      double stepFlops = 0;  // counted when the measurement records the step
+      b.measureStep(name, batchAndGrid, 0, {}, [&](Stream& stream) {
         Tape tape(stream);
+        const modules::FlopCounter counter;
         train::recordTrainingStep(tape, *trainer, variant, parameters, {adam, clip, ema});
+        stepFlops = counter.flops() + counter.backwardFlops();
       });
+      Measurement& m = b.last();
+      m.flops = stepFlops;
+      if (stepFlops > 0) m.shape += ", net " + std::to_string(static_cast<int>(std::lround(300 * networkForward / stepFlops))) + "%";
     }
   } catch (const Error& error) {
     notRun(b, base, error.what());

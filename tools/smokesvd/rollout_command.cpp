@@ -19,6 +19,7 @@ struct RolloutArguments {
   int frames = 40, scenes = 6;
   reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start
   int validationEvery = 10;
+  std::string history = "own";
 };
 
 void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& action) {
@@ -32,6 +33,10 @@ void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& actio
   c->add_option("--validation-every", a.validationEvery, "the dataset's split: every N-th scene is held out (default 10)")
       ->check(wholeNumber(1, 100000));
   addSideViewSamplingFlags(*c, a.sampling);
+  c->add_option("--history", a.history,
+                "own (default): each frame conditioned on the rollout's own previous side views, as a reconstruction is; "
+                "truth: on the true ones (teacher forcing), to tell drift from harder frames")
+      ->check(CLI::IsMember({"own", "truth"}));
   c->add_option("--out", a.out, "JSON file of the per-frame figures");
   c->callback([&global, &action] {
     action = [&global] {
@@ -41,8 +46,10 @@ void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& actio
       const dataset::SceneDataset data(a.data, p, options);
       Context context(global.contextOptions());
       reconstruct::MethodModels models(context, a.models.empty() ? reconstruct::defaultModelsFolder(a.preset) : std::filesystem::path(a.models), p);
-      const reconstruct::RolloutResult r = reconstruct::sideViewRollout(context, models, data, a.frames, a.scenes, a.sampling);
-      std::cout << "side views over " << a.frames << " frames of " << r.scenes << " held-out scenes: PSNR " << r.mean()
+      const reconstruct::RolloutResult r =
+          reconstruct::sideViewRollout(context, models, data, a.frames, a.scenes, a.sampling,
+                                       a.history == "truth" ? reconstruct::RolloutHistory::Truth : reconstruct::RolloutHistory::Own);
+      std::cout << (r.trueHistory ? "side views from true history" : "side views") << " over " << a.frames << " frames of " << r.scenes << " held-out scenes: PSNR " << r.mean()
                 << " dB (mirrored front view " << r.mirroredMean() << " dB, all-black " << r.blackMean()
                 << " dB); first 10 frames " << r.firstTen() << " dB (mirrored " << r.mirroredFirstTen() << "), last 10 "
                 << r.lastTen() << " dB (mirrored " << r.mirroredLastTen() << ")\n";

@@ -179,6 +179,35 @@ TEST_F(ModelsTest, FlopCounterCountsConvolutionsAndLinearLayers) {
   EXPECT_DOUBLE_EQ(outer.flops(), 2.0 * (6 * 3 * 5 * 7) * (4 * 27) + 2.0 * 14 * 5);
 }
 
+// A layer's backward FLOPs: its forward's once per input and once per weight that needs a gradient.
+TEST_F(ModelsTest, FlopCounterCountsTheBackwardPassesALayerRecords) {
+  modules::Conv c(context(), 3, 4, 6, 3, {1, 1});
+  const double forward = 2.0 * (6 * 3 * 5 * 7) * (4 * 27);
+  Stream stream(context());
+  Tape tape(stream);
+  const Var input = variable(randomTensor(context(), {1, 4, 3, 5, 7}, 1));
+  const Var inputNeedingGrad = variable(randomTensor(context(), {1, 4, 3, 5, 7}, 2), true);
+  {
+    modules::FlopCounter counter;
+    c.forward(tape, input);  // weight only
+    EXPECT_DOUBLE_EQ(counter.backwardFlops(), forward);
+    c.forward(tape, inputNeedingGrad);  // input and weight
+    EXPECT_DOUBLE_EQ(counter.backwardFlops(), 3 * forward);
+    EXPECT_DOUBLE_EQ(counter.flops(), 2 * forward);
+  }
+  for (const auto& [name, parameter] : c.namedParameters()) parameter->requiresGrad = false;
+  {
+    modules::FlopCounter counter;
+    c.forward(tape, input);  // frozen on an input that needs no gradient: no backward
+    c.forward(tape, inputNeedingGrad);  // frozen, the gradient passes through to the input
+    EXPECT_DOUBLE_EQ(counter.backwardFlops(), forward);
+    NoGrad noGrad(tape);
+    c.forward(tape, inputNeedingGrad);
+    EXPECT_DOUBLE_EQ(counter.backwardFlops(), forward);
+    EXPECT_DOUBLE_EQ(counter.flops(), 3 * forward);
+  }
+}
+
 // Each architecture fits one fixed sample: the loss falls a hundredfold within a few hundred steps.
 float fitOneSample(Context& context, modules::Module& net, const std::function<Var(Tape&)>& loss, int steps) {
   const NamedParameters parameters = net.namedParameters();

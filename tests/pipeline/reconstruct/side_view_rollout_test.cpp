@@ -59,6 +59,27 @@ TEST_F(SideViewRolloutTest, GivesEveryFrameBesideTheMirroredFrontViewAndTheBlack
   }
 }
 
+// Teacher forcing: frames 0 and 1 come from SvDiff-init, which has no history, so they are the same as in
+// the rollout on its own history; the later frames are conditioned on the true side views and differ.
+TEST_F(SideViewRolloutTest, WithTrueHistoryOnlyTheFramesThatHaveHistoryChange) {
+  const dataset::SceneDataset data = tinyData();
+  reconstruct::MethodModels models(context(), tinyModels(), preset("tiny"));
+  reconstruct::SideViewOptions options;
+  options.steps = 3;
+  options.initSteps = 3;
+  options.start = 100;
+  const reconstruct::RolloutResult own = reconstruct::sideViewRollout(context(), models, data, 5, 1, options);
+  const reconstruct::RolloutResult truth =
+      reconstruct::sideViewRollout(context(), models, data, 5, 1, options, reconstruct::RolloutHistory::Truth);
+  EXPECT_FALSE(own.trueHistory);
+  EXPECT_TRUE(truth.trueHistory);
+  EXPECT_EQ(truth.toJson().at("history"), "truth");
+  EXPECT_EQ(truth.psnr[0], own.psnr[0]);
+  EXPECT_EQ(truth.psnr[1], own.psnr[1]);
+  for (std::size_t t = 2; t < 5; ++t) EXPECT_NE(truth.psnr[t], own.psnr[t]) << "frame " << t;
+  EXPECT_EQ(truth.mirrored, own.mirrored);
+}
+
 // SvDiff and SvDiff-init trained with options.prediction "v" record it in their config, load as v-predicting
 // synthesisers, and sample from pure noise (the side view of every frame a finite image).
 TEST_F(SideViewRolloutTest, AVPredictingSynthesizerSamplesFromPureNoise) {
