@@ -29,7 +29,7 @@ Var Conv::forward(Tape& tape, const Var& x) {
   // weight [out, in, k...]: per output element, in * k^dims multiply-adds.
   FlopCounter::count(2.0 * static_cast<double>(y->value.numel()) *
                          static_cast<double>(weight_->value.numel() / weight_->value.size(0)),
-                     backwardPasses(y, {x}, weight_));
+                     backwardPasses(y, {x}, weight_), weight_->requiresGrad);
   return y;
 }
 
@@ -47,7 +47,8 @@ std::vector<Var> Conv::forwardParts(Tape& tape, const std::vector<Var>& parts, c
     groups.push_back(fn::convOfParts(tape, parts, weight_, bias_, params_, begin, begin + channels));
     FlopCounter::count(2.0 * static_cast<double>(groups.back()->value.numel()) *
                            static_cast<double>(weight_->value.numel() / weight_->value.size(0)),
-                       backwardPasses(groups.back(), parts, weight_));
+                       backwardPasses(groups.back(), parts, weight_),
+                       weight_->requiresGrad);
     begin += channels;
   }
   return groups;

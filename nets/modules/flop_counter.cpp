@@ -9,10 +9,11 @@ FlopCounter::FlopCounter() : outer_(innermost) { innermost = this; }
 
 FlopCounter::~FlopCounter() { innermost = outer_; }
 
-void FlopCounter::count(double flops, int backwardPasses) {
+void FlopCounter::count(double flops, int backwardPasses, bool trained) {
   for (FlopCounter* counter = innermost; counter != nullptr; counter = counter->outer_) {
     counter->flops_ += flops;
     counter->backwardFlops_ += backwardPasses * flops;
+    if (trained) counter->trainedFlops_ += (1 + backwardPasses) * flops;
   }
 }
 

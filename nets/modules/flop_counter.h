@@ -26,14 +26,17 @@ class FlopCounter {
 
   double flops() const { return flops_; }
   double backwardFlops() const { return backwardFlops_; }
+  // Forward and backward FLOPs of the layers whose weights are trained (need a gradient).
+  double trainedFlops() const { return trainedFlops_; }
 
   // Adds a layer's forward FLOPs, and `backwardPasses` times as many backward FLOPs, to every live
   // counter on this thread (Conv and Linear call it from forward).
-  static void count(double flops, int backwardPasses = 0);
+  static void count(double flops, int backwardPasses = 0, bool trained = false);
 
  private:
   double flops_ = 0;
   double backwardFlops_ = 0;
+  double trainedFlops_ = 0;
   FlopCounter* outer_ = nullptr;
 };
 

@@ -26,6 +26,7 @@ double average(const std::vector<double>& v, std::size_t begin, std::size_t end)
 double RolloutResult::mean() const { return average(psnr, 0, psnr.size()); }
 double RolloutResult::mirroredMean() const { return average(mirrored, 0, mirrored.size()); }
 double RolloutResult::blackMean() const { return average(black, 0, black.size()); }
+double RolloutResult::previousMean() const { return average(previous, 0, previous.size()); }
 double RolloutResult::firstTen() const { return average(psnr, 0, 10); }
 double RolloutResult::lastTen() const { return average(psnr, psnr.size() >= 10 ? psnr.size() - 10 : 0, psnr.size()); }
 double RolloutResult::mirroredFirstTen() const { return average(mirrored, 0, 10); }
@@ -40,13 +41,15 @@ nlohmann::json RolloutResult::toJson() const {
           {"psnr_mean", mean()},
           {"psnr_mirrored_front_mean", mirroredMean()},
           {"psnr_black_mean", blackMean()},
+          {"psnr_previous_true_side_mean", previousMean()},
           {"psnr_first_10", firstTen()},
           {"psnr_last_10", lastTen()},
           {"psnr_mirrored_front_first_10", mirroredFirstTen()},
           {"psnr_mirrored_front_last_10", mirroredLastTen()},
           {"psnr_per_frame", psnr},
           {"psnr_mirrored_front_per_frame", mirrored},
-          {"psnr_black_per_frame", black}};
+          {"psnr_black_per_frame", black},
+          {"psnr_previous_true_side_per_frame_from_1", previous}};
 }
 
 RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int frames,
@@ -57,6 +60,7 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
   result.psnr.assign(static_cast<std::size_t>(frames), 0.0);
   result.mirrored.assign(static_cast<std::size_t>(frames), 0.0);
   result.black.assign(static_cast<std::size_t>(frames), 0.0);
+  result.previous.assign(static_cast<std::size_t>(frames - 1), 0.0);
   const std::vector<Camera> frontSide{networks::orbitCameraAt(preset, 0), networks::orbitCameraAt(preset, 90)};
   const render::ViewSet sideCamera = render::uploadViews(context, std::vector<Camera>{frontSide[1]});
   for (const dataset::SceneEntry& scene : data.validation()) {
@@ -102,6 +106,9 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
       result.mirrored[static_cast<std::size_t>(t)] += train::psnr(mirror, sides[static_cast<std::size_t>(t)].values);
       result.black[static_cast<std::size_t>(t)] +=
           train::psnr(std::vector<float>(synthesized.size(), 0.0f), sides[static_cast<std::size_t>(t)].values);
+      if (t > 0)
+        result.previous[static_cast<std::size_t>(t - 1)] +=
+            train::psnr(sides[static_cast<std::size_t>(t - 1)].values, sides[static_cast<std::size_t>(t)].values);
     }
     ++result.scenes;
   }
@@ -110,6 +117,7 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
   for (double& v : result.psnr) v /= result.scenes;
   for (double& v : result.mirrored) v /= result.scenes;
   for (double& v : result.black) v /= result.scenes;
+  for (double& v : result.previous) v /= result.scenes;
   return result;
 }
 

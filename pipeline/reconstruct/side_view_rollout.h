@@ -3,7 +3,8 @@
 // 0 and 1, then SvDiff conditioned on its own previous side views and the 90-degree renders of their
 // coarse densities) from the true front views, and compared with the true side views: PSNR per frame
 // (data range 1, whole preset-size images), beside the naive baseline of the mirrored front view and the
-// all-black floor (on mostly black images an all-black side view scores high).
+// all-black floor (on mostly black images an all-black side view scores high), and the true side view of
+// the frame before, copied (what a synthesiser that leans on true history can reach by copying it).
 // Front and side views are renders of the simulated densities with each scene's look in the networks'
 // units (pipeline/dataset/scene_dataset.h).
 // With RolloutHistory::Truth every frame is conditioned instead on the true side views of the previous
@@ -24,11 +25,13 @@ namespace smokesvd::reconstruct {
 
 struct RolloutResult {
   std::vector<double> psnr, mirrored, black;  // per frame, mean over scenes
+  std::vector<double> previous;  // per frame from frame 1: the true side view of the frame before, copied
   int scenes = 0;
   bool trueHistory = false;  // conditioned on the true side views of the previous frames
   double mean() const;
   double mirroredMean() const;
   double blackMean() const;
+  double previousMean() const;  // frames 1 on
   double firstTen() const;
   double lastTen() const;
   double mirroredFirstTen() const;

@@ -11,7 +11,7 @@
 // (modules::FlopCounter): every convolution and linear layer it runs, the trained network's and the frozen
 // ones', forward, and each backward pass it records (to the inputs, to the weights); renders, advection,
 // activations and the optimiser are memory-bound and in the time only. The shape column gives the trained
-// network's share. A step is long, so each is timed over 1 warm-up and at most 5 runs. Where the device
+// network's share (its layers' forward and backward FLOPs, frozen passes of it under NoGrad included). A step is long, so each is timed over 1 warm-up and at most 5 runs. Where the device
 // cannot hold a step (a tensor past its buffer limit, memory exhausted) the line says so instead of a time.
 #include <cmath>
 #include <filesystem>
@@ -138,7 +138,6 @@ void measureNetwork(BenchContext& b, networks::Network network, const std::strin
     const optim::Adam adam(context, parameters, train::adamWOptions(t));
     const optim::GradClip clip(context, t.clip);
     const optim::Ema ema(context, parameters, t.ema);
-    const double networkForward = trainer->forwardFlops();
     const GridSize grid = preset(presetName).grid;
     const std::string batchAndGrid = "batch " + std::to_string(t.batch) + ", " + std::to_string(grid.x) + "x" +
                                      std::to_string(grid.y) + "x" + std::to_string(grid.z);
@@ -153,16 +152,17 @@ void measureNetwork(BenchContext& b, networks::Network network, const std::strin
       if (measured.at(static_cast<std::size_t>(variant))) continue;
       measured[static_cast<std::size_t>(variant)] = true;
       const std::string name = variants.size() == 1 ? base : base + ":" + variants[static_cast<std::size_t>(variant)];
-      double stepFlops = 0;  // counted when the measurement records the step
+      double stepFlops = 0, trainedFlops = 0;  // counted when the measurement records the step
       b.measureStep(name, batchAndGrid, 0, {}, [&](Stream& stream) {
         Tape tape(stream);
         const modules::FlopCounter counter;
         train::recordTrainingStep(tape, *trainer, variant, parameters, {adam, clip, ema});
         stepFlops = counter.flops() + counter.backwardFlops();
+        trainedFlops = counter.trainedFlops();
       });
       Measurement& m = b.last();
       m.flops = stepFlops;
-      if (stepFlops > 0) m.shape += ", net " + std::to_string(static_cast<int>(std::lround(300 * networkForward / stepFlops))) + "%";
+      if (stepFlops > 0) m.shape += ", net " + std::to_string(static_cast<int>(std::lround(100 * trainedFlops / stepFlops))) + "%";
     }
   } catch (const Error& error) {
     notRun(b, base, error.what());

@@ -52,7 +52,8 @@ void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& actio
       std::cout << (r.trueHistory ? "side views from true history" : "side views") << " over " << a.frames << " frames of " << r.scenes << " held-out scenes: PSNR " << r.mean()
                 << " dB (mirrored front view " << r.mirroredMean() << " dB, all-black " << r.blackMean()
                 << " dB); first 10 frames " << r.firstTen() << " dB (mirrored " << r.mirroredFirstTen() << "), last 10 "
-                << r.lastTen() << " dB (mirrored " << r.mirroredLastTen() << ")\n";
+                << r.lastTen() << " dB (mirrored " << r.mirroredLastTen() << "); the previous frame's true side view, copied, "
+                << r.previousMean() << " dB over frames 1 on\n";
       if (!a.out.empty())
         io::writeAtomically(a.out, [&](const std::filesystem::path& tmp) { std::ofstream(tmp) << r.toJson().dump(2) << "\n"; });
     };

@@ -179,7 +179,8 @@ TEST_F(ModelsTest, FlopCounterCountsConvolutionsAndLinearLayers) {
   EXPECT_DOUBLE_EQ(outer.flops(), 2.0 * (6 * 3 * 5 * 7) * (4 * 27) + 2.0 * 14 * 5);
 }
 
-// A layer's backward FLOPs: its forward's once per input and once per weight that needs a gradient.
+// A layer's backward FLOPs: its forward's once per input and once per weight that needs a gradient; a
+// layer with a trained weight counts its forward and backward as the trained network's.
 TEST_F(ModelsTest, FlopCounterCountsTheBackwardPassesALayerRecords) {
   modules::Conv c(context(), 3, 4, 6, 3, {1, 1});
   const double forward = 2.0 * (6 * 3 * 5 * 7) * (4 * 27);
@@ -194,6 +195,7 @@ TEST_F(ModelsTest, FlopCounterCountsTheBackwardPassesALayerRecords) {
     c.forward(tape, inputNeedingGrad);  // input and weight
     EXPECT_DOUBLE_EQ(counter.backwardFlops(), 3 * forward);
     EXPECT_DOUBLE_EQ(counter.flops(), 2 * forward);
+    EXPECT_DOUBLE_EQ(counter.trainedFlops(), 5 * forward);
   }
   for (const auto& [name, parameter] : c.namedParameters()) parameter->requiresGrad = false;
   {
@@ -205,6 +207,7 @@ TEST_F(ModelsTest, FlopCounterCountsTheBackwardPassesALayerRecords) {
     c.forward(tape, inputNeedingGrad);
     EXPECT_DOUBLE_EQ(counter.backwardFlops(), forward);
     EXPECT_DOUBLE_EQ(counter.flops(), 3 * forward);
+    EXPECT_DOUBLE_EQ(counter.trainedFlops(), 0.0);  // frozen
   }
 }
 

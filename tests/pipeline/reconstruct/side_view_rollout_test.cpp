@@ -40,12 +40,15 @@ TEST_F(SideViewRolloutTest, GivesEveryFrameBesideTheMirroredFrontViewAndTheBlack
     ASSERT_EQ(figures->size(), 6u);
     for (const double v : *figures) EXPECT_TRUE(std::isfinite(v) && v > 0) << v;
   }
+  ASSERT_EQ(a.previous.size(), 5u);  // from frame 1
+  for (const double v : a.previous) EXPECT_TRUE(std::isfinite(v) && v > 0) << v;
   // The front and side views of a scene differ, so the mirrored front view is not the side view; neither is black.
   EXPECT_LT(a.mirroredMean(), 100.0);
   EXPECT_LT(a.blackMean(), 100.0);
   const nlohmann::json json = a.toJson();
   for (const char* key : {"psnr_mean", "psnr_mirrored_front_mean", "psnr_black_mean", "psnr_first_10", "psnr_last_10",
-                          "psnr_mirrored_front_first_10", "psnr_mirrored_front_last_10", "psnr_black_per_frame"})
+                          "psnr_mirrored_front_first_10", "psnr_mirrored_front_last_10", "psnr_black_per_frame",
+                          "psnr_previous_true_side_mean"})
     EXPECT_TRUE(json.contains(key)) << key;
   // A seed gives the same rollout.
   const reconstruct::RolloutResult b = reconstruct::sideViewRollout(context(), models, data, 6, 1, options);
@@ -78,6 +81,7 @@ TEST_F(SideViewRolloutTest, WithTrueHistoryOnlyTheFramesThatHaveHistoryChange) {
   EXPECT_EQ(truth.psnr[1], own.psnr[1]);
   for (std::size_t t = 2; t < 5; ++t) EXPECT_NE(truth.psnr[t], own.psnr[t]) << "frame " << t;
   EXPECT_EQ(truth.mirrored, own.mirrored);
+  EXPECT_EQ(truth.previous, own.previous);
 }
 
 // SvDiff and SvDiff-init trained with options.prediction "v" record it in their config, load as v-predicting
