@@ -45,7 +45,7 @@ class StageTrainer {
   virtual std::vector<Metric> validate() = 0;
   // A line for the model card about the data, e.g. "108 training scenes of /data (seeds 1000-1119)".
   virtual std::string dataSummary() const = 0;
-  // FLOPs of one forward pass of the network (modules::FlopCounter), for the model card and benchmarks.
+  // FLOPs of one forward pass of the network (modules::FlopCounter), for the model card and the progress line.
   virtual double forwardFlops() = 0;
 };
 

@@ -11,8 +11,9 @@
 // (modules::FlopCounter): every convolution and linear layer it runs, the trained network's and the frozen
 // ones', forward, and each backward pass it records (to the inputs, to the weights); renders, advection,
 // activations and the optimiser are memory-bound and in the time only. The shape column gives the trained
-// network's share (its layers' forward and backward FLOPs, frozen passes of it under NoGrad included). A step is long, so each is timed over 1 warm-up and at most 5 runs. Where the device
-// cannot hold a step (a tensor past its buffer limit, memory exhausted) the line says so instead of a time.
+// network's share (its layers' forward and backward FLOPs, its passes under NoGrad included). A step is
+// long, so each is timed over 1 warm-up and at most 5 runs. Where the device cannot hold a step (a tensor
+// past its buffer limit, memory exhausted) the line says so instead of a time.
 #include <cmath>
 #include <filesystem>
 #include <map>
