@@ -27,9 +27,8 @@ Conv::Conv(Context& context, int dims, int64_t inChannels, int64_t outChannels, 
 Var Conv::forward(Tape& tape, const Var& x) {
   Var y = dims_ == 2 ? fn::conv2d(tape, x, weight_, bias_, params_) : fn::conv3d(tape, x, weight_, bias_, params_);
   // weight [out, in, k...]: per output element, in * k^dims multiply-adds.
-  FlopCounter::count(2.0 * static_cast<double>(y->value.numel()) *
-                         static_cast<double>(weight_->value.numel() / weight_->value.size(0)),
-                     backwardPasses(y, {x}, weight_), weight_->requiresGrad);
+  countLayer(2.0 * static_cast<double>(y->value.numel()) * static_cast<double>(weight_->value.numel() / weight_->value.size(0)),
+             y, {x}, weight_);
   return y;
 }
 
@@ -45,10 +44,9 @@ std::vector<Var> Conv::forwardParts(Tape& tape, const std::vector<Var>& parts, c
   int64_t begin = 0;
   for (const int64_t channels : outChannels) {
     groups.push_back(fn::convOfParts(tape, parts, weight_, bias_, params_, begin, begin + channels));
-    FlopCounter::count(2.0 * static_cast<double>(groups.back()->value.numel()) *
-                           static_cast<double>(weight_->value.numel() / weight_->value.size(0)),
-                       backwardPasses(groups.back(), parts, weight_),
-                       weight_->requiresGrad);
+    countLayer(2.0 * static_cast<double>(groups.back()->value.numel()) *
+                   static_cast<double>(weight_->value.numel() / weight_->value.size(0)),
+               groups.back(), parts, weight_);
     begin += channels;
   }
   return groups;

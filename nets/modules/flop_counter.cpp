@@ -17,11 +17,11 @@ void FlopCounter::count(double flops, int backwardPasses, bool trained) {
   }
 }
 
-int backwardPasses(const Var& y, const std::vector<Var>& inputs, const Var& weight) {
-  if (!y->requiresGrad) return 0;
+void countLayer(double flops, const Var& y, const std::vector<Var>& inputs, const Var& weight) {
   bool input = false;
   for (const Var& x : inputs) input = input || x->requiresGrad;
-  return (input ? 1 : 0) + (weight->requiresGrad ? 1 : 0);
+  const int backwardPasses = y->requiresGrad ? (input ? 1 : 0) + (weight->requiresGrad ? 1 : 0) : 0;
+  FlopCounter::count(flops, backwardPasses, weight->requiresGrad);
 }
 
 }  // namespace smokesvd::modules

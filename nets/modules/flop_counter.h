@@ -40,8 +40,9 @@ class FlopCounter {
   FlopCounter* outer_ = nullptr;
 };
 
-// The backward passes a layer with output y records: one to its inputs and one to its weight, each where a
-// gradient is needed; none when y needs no gradient (a frozen layer on inputs that need none, or NoGrad).
-int backwardPasses(const Var& y, const std::vector<Var>& inputs, const Var& weight);
+// Counts a layer of `flops` forward FLOPs with output y: the backward passes it records, one to its inputs
+// and one to its weight, each where a gradient is needed (none when y needs none: a frozen layer on inputs
+// that need none, or NoGrad), and as the trained network's when its weight needs a gradient.
+void countLayer(double flops, const Var& y, const std::vector<Var>& inputs, const Var& weight);
 
 }  // namespace smokesvd::modules

@@ -12,8 +12,7 @@ Linear::Linear(Context& context, int64_t inFeatures, int64_t outFeatures, bool b
 
 Var Linear::forward(Tape& tape, const Var& x) {
   Var y = fn::linear(tape, x, weight_, bias_);
-  FlopCounter::count(2.0 * static_cast<double>(y->value.numel()) * static_cast<double>(weight_->value.size(1)),
-                     backwardPasses(y, {x}, weight_), weight_->requiresGrad);
+  countLayer(2.0 * static_cast<double>(y->value.numel()) * static_cast<double>(weight_->value.size(1)), y, {x}, weight_);
   return y;
 }
 

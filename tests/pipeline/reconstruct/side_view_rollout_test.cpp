@@ -25,15 +25,21 @@ dataset::SceneDataset tinyData() {
   return dataset::SceneDataset(tinyDataset(), preset("tiny"), options);
 }
 
+// Few DDIM steps, so that a rollout of the tiny models takes seconds; `start` as SideViewOptions::start.
+reconstruct::SideViewOptions fewSteps(int start) {
+  reconstruct::SideViewOptions options;
+  options.steps = 3;
+  options.initSteps = 3;
+  options.start = start;
+  return options;
+}
+
 class SideViewRolloutTest : public GpuTest {};
 
 TEST_F(SideViewRolloutTest, GivesEveryFrameBesideTheMirroredFrontViewAndTheBlackFloor) {
   const dataset::SceneDataset data = tinyData();
   reconstruct::MethodModels models(context(), tinyModels(), preset("tiny"));
-  reconstruct::SideViewOptions options;
-  options.steps = 3;
-  options.initSteps = 3;
-  options.start = 100;
+  const reconstruct::SideViewOptions options = fewSteps(100);
   const reconstruct::RolloutResult a = reconstruct::sideViewRollout(context(), models, data, 6, 1, options);
   ASSERT_EQ(a.scenes, 1);
   for (const auto* figures : {&a.psnr, &a.mirrored, &a.black}) {
@@ -67,10 +73,7 @@ TEST_F(SideViewRolloutTest, GivesEveryFrameBesideTheMirroredFrontViewAndTheBlack
 TEST_F(SideViewRolloutTest, WithTrueHistoryOnlyTheFramesThatHaveHistoryChange) {
   const dataset::SceneDataset data = tinyData();
   reconstruct::MethodModels models(context(), tinyModels(), preset("tiny"));
-  reconstruct::SideViewOptions options;
-  options.steps = 3;
-  options.initSteps = 3;
-  options.start = 100;
+  const reconstruct::SideViewOptions options = fewSteps(100);
   const reconstruct::RolloutResult own = reconstruct::sideViewRollout(context(), models, data, 5, 1, options);
   const reconstruct::RolloutResult truth =
       reconstruct::sideViewRollout(context(), models, data, 5, 1, options, reconstruct::RolloutHistory::Truth);
@@ -110,10 +113,7 @@ TEST_F(SideViewRolloutTest, AVPredictingSynthesizerSamplesFromPureNoise) {
   reconstruct::MethodModels loaded(context(), models, preset("tiny"));
   EXPECT_EQ(loaded.sideView->prediction(), diffusion::Prediction::Velocity);
   EXPECT_EQ(loaded.sideViewInit->prediction(), diffusion::Prediction::Velocity);
-  reconstruct::SideViewOptions options;
-  options.steps = 3;
-  options.initSteps = 3;
-  options.start = -1;
+  const reconstruct::SideViewOptions options = fewSteps(-1);
   const reconstruct::RolloutResult r = reconstruct::sideViewRollout(context(), loaded, data, 4, 1, options);
   for (const double v : r.psnr) EXPECT_TRUE(std::isfinite(v)) << v;
 }
