@@ -1,7 +1,9 @@
 #include "pipeline/train/svdiff_trainer.h"
 
 #include <cmath>
+#include <tuple>
 
+#include "nets/functional/activation.h"
 #include "nets/functional/broadcast.h"
 #include "nets/functional/concat.h"
 #include "nets/functional/elementwise.h"
@@ -54,7 +56,8 @@ SvDiffTrainer::SvDiffTrainer(Context& context, const networks::NetworkConfig& co
     models::requireKnownKeys(config.loss, {"noise", "image", "row_sum", "velocity"}, lossWhere);
     models::requireKnownKeys(config.options, {"diffusion_steps", "beta_start", "beta_end", "prediction",
                                               "guidance_threshold", "coarse_model", "frames", "multi_frame",
-                                              "multi_frame_steps", "guidance", "velocity_model"},
+                                              "multi_frame_steps", "guidance", "velocity_model", "init_history",
+                                              "init_model"},
                              optionsWhere);
     frames_ = static_cast<int>(networks::integer(config.options, "frames", optionsWhere));
     multiFrame_ = networks::flag(config.options, "multi_frame", optionsWhere);
@@ -65,6 +68,8 @@ SvDiffTrainer::SvDiffTrainer(Context& context, const networks::NetworkConfig& co
       multiFrameEveryStep_ = steps == "all";
     }
     if (frames_ < 1) throw Error(optionsWhere + ": 'frames' must be at least 1");
+    if (config.options.contains("init_history")) initHistory_ = networks::number(config.options, "init_history", optionsWhere);
+    if (!(initHistory_ >= 0 && initHistory_ <= 1)) throw Error(optionsWhere + ": 'init_history' must be a probability in [0, 1]");
     if (config.train.batch != 1) throw Error(config.source + " [train]: SvDiff trains with batch 1 (one frame sequence)");
   }
   weights_ = {networks::number(config.loss, "noise", lossWhere), networks::number(config.loss, "image", lossWhere),
@@ -93,6 +98,21 @@ SvDiffTrainer::SvDiffTrainer(Context& context, const networks::NetworkConfig& co
       networks::loadTrainedWeights(gu, velocity_->net());
       networks::freeze(velocity_->net());
     }
+    if (initHistory_ > 0) {
+      if (networks::text(config.options, "init_model", optionsWhere) != "svdiff-init")
+        throw Error(optionsWhere + ": 'init_model' must be \"svdiff-init\" (needed by 'init_history')");
+      const networks::TrainedModel svi = networks::findTrainedModel(models, networks::Network::SvDiffInit, p);
+      const networks::DiffusionSettings initDiffusion = networks::diffusionSettings(svi.config);
+      init_ = std::make_unique<networks::SideViewSynthesizer>(
+          context, models::ddpmUNetFromJson(svi.config.model, svi.config.source + " [model]"), 2, 2, initDiffusion.prediction);
+      networks::loadTrainedWeights(svi, init_->net());
+      networks::freeze(init_->net());
+      const int last = initDiffusion.schedule.steps() - 1;
+      initNoise_ = variable(Tensor(context, {1, 2, p.imageHeight, p.imageWidth}));
+      initSteps_ = variable(Tensor::fromHost(context, {1}, std::vector<float>{static_cast<float>(last)}));
+      initFactors_ = std::make_unique<diffusion::StepFactorTensors>(context, 1);
+      initFactors_->upload(diffusion::stepFactors(initDiffusion.schedule, std::vector<int>{last}));
+    }
   }
   const int volumes = initial ? 2 * batch_ : frames_ + 2;
   for (int i = 0; i < volumes; ++i) densities_.push_back(variable(Tensor(context, p.grid.volume())));
@@ -104,12 +124,20 @@ SvDiffTrainer::SvDiffTrainer(Context& context, const networks::NetworkConfig& co
   synthesizer_.net().initialize(initial ? 0x737669 : 0x7376);
 }
 
+std::vector<std::string> SvDiffTrainer::variants() const {
+  std::vector<std::string> names{"unguided-unlit", "unguided-lit", "guided-unlit", "guided-lit"};
+  if (initHistory_ > 0)
+    for (int i = 0; i < 4; ++i) names.push_back(names[static_cast<std::size_t>(i)] + "-init-history");
+  return names;
+}
+
 int SvDiffTrainer::framesPerSample() const { return initial_ ? 2 : frames_ + 2; }
 
 int SvDiffTrainer::upload(const dataset::SceneEntry& scene, const std::vector<int>& frames, const Augmentation& a,
                           int step, diffusion::Gaussian& random) {
   for (std::size_t i = 0; i < frames.size(); ++i) densities_[i]->value.upload(augmentedDensity(data_, scene, frames[i], a));
   for (const Var& n : noise_) n->value.upload(random.values(static_cast<std::size_t>(n->value.numel())));
+  if (initNoise_) initNoise_->value.upload(random.values(static_cast<std::size_t>(initNoise_->value.numel())));
   steps_->value.upload(std::vector<float>(static_cast<std::size_t>(batch_), static_cast<float>(step)));
   factors_.upload(diffusion::stepFactors(schedule_, std::vector<int>(static_cast<std::size_t>(batch_), step)));
   return look_.upload(augmentedLook(data_, scene, a));
@@ -139,7 +167,20 @@ int SvDiffTrainer::prepare(int64_t, diffusion::Gaussian& random) {
     scene = draw.scene;
     for (int k = -2; k < frames_; ++k) frames.push_back(draw.frame + k);
   }
-  return upload(*scene, frames, a, step, random) + (guided ? 2 : 0);
+  const int look = upload(*scene, frames, a, step, random);
+  const bool initHistory = initHistory_ > 0 && random.uniform() < initHistory_;  // drawn last: the sample stays the same
+  return look + (guided ? 2 : 0) + (initHistory ? 4 : 0);
+}
+
+std::pair<Var, Var> SvDiffTrainer::initEstimates(Tape& tape, const Var& front0, const Var& front1) {
+  const Var predicted = init_->predict(tape, initNoise_, fn::concatChannels(tape, {front0, front1}), initSteps_);
+  const Var w = networks::toImageRange(
+      tape, diffusion::cleanFromPrediction(tape, init_->prediction(), initNoise_, predicted, *initFactors_));
+  // clamp(w, 0, 1) = 1 - relu(1 - relu(w))
+  const Var one = variable(Tensor::fromHost(tape.context(), {1}, std::vector<float>{1.0f}));
+  auto oneMinus = [&](const Var& x) { return fn::broadcastBinary(tape, ops::BinaryOp::Add, fn::scale(tape, x, -1.0f), one); };
+  const Var clamped = oneMinus(fn::relu(tape, oneMinus(fn::relu(tape, w))));
+  return {fn::sliceChannels(tape, clamped, 0, 1), fn::sliceChannels(tape, clamped, 1, 2)};
 }
 
 SvDiffTrainer::FrameErrors SvDiffTrainer::frameErrors(Tape& tape, const Var& clean, const Var& noise, const Var& noisy,
@@ -192,7 +233,8 @@ LossTerms SvDiffTrainer::recordInitial(Tape& tape, bool guided, const render::Re
   return terms;
 }
 
-LossTerms SvDiffTrainer::recordSequence(Tape& tape, bool guided, const render::RenderSettings& settings, FrameErrors* errors) {
+LossTerms SvDiffTrainer::recordSequence(Tape& tape, bool guided, bool initHistory, const render::RenderSettings& settings,
+                                         FrameErrors* errors) {
   struct Conditioned {
     Var side, render;  // the synthesised (or true) side view and the side render of its coarse density
   };
@@ -212,9 +254,11 @@ LossTerms SvDiffTrainer::recordSequence(Tape& tape, bool guided, const render::R
   {
     NoGrad noGrad(tape);
     for (const Var& density : densities_) truth.push_back(frontSide(tape, density, settings));
-    const Var density0 = coarse(truth[0].front, truth[0].side), density1 = coarse(truth[1].front, truth[1].side);
-    beforePrevious = {truth[0].side, sideRender(density0)};
-    previous = {truth[1].side, sideRender(density1)};
+    Var side0 = truth[0].side, side1 = truth[1].side;
+    if (initHistory) std::tie(side0, side1) = initEstimates(tape, truth[0].front, truth[1].front);
+    const Var density0 = coarse(truth[0].front, side0), density1 = coarse(truth[1].front, side1);
+    beforePrevious = {side0, sideRender(density0)};
+    previous = {side1, sideRender(density1)};
     previousDensity = density1;
   }
   const bool chained = multiFrame_ && (guided || multiFrameEveryStep_);
@@ -268,8 +312,8 @@ LossTerms SvDiffTrainer::recordSequence(Tape& tape, bool guided, const render::R
 
 LossTerms SvDiffTrainer::record(Tape& tape, int variant) {
   const render::RenderSettings settings = look_.settings(variant % 2 == 1);
-  const bool guided = variant >= 2;
-  return initial_ ? recordInitial(tape, guided, settings) : recordSequence(tape, guided, settings);
+  const bool guided = (variant & 2) != 0, initHistory = (variant & 4) != 0;
+  return initial_ ? recordInitial(tape, guided, settings) : recordSequence(tape, guided, initHistory, settings);
 }
 
 std::vector<Metric> SvDiffTrainer::validate() {
@@ -296,7 +340,7 @@ std::vector<Metric> SvDiffTrainer::validate() {
       if (initial_)
         recordInitial(tape, false, settings, &errors);
       else
-        recordSequence(tape, false, settings, &errors);
+        recordSequence(tape, false, false, settings, &errors);
       s.submit();
       noiseError[p] += errors.noise->value.download()[0];
       const double mse = errors.clean->value.download()[0] / 4.0;  // [-1, 1] -> [0, 1]

@@ -19,6 +19,13 @@
 // options.multi_frame_steps = "all" (beyond the paper; default "guided") runs the F-frame chain on unguided
 // steps too (s >= TQ, L_noise only): there x0^ is far from the truth (at s near T the model's guess from the
 // condition alone), so the later frames learn from conditions as wrong as their own earlier outputs.
+// options.init_history = p (beyond the paper; default 0): with probability p a sample's history, the side
+// views of t-2 and t-1, is SvDiff-init's estimate of them from their front views instead of the truth (its
+// clean estimate at step T - 1 from pure noise, clamped to [0, 1]: a one-step DDIM sample, what an
+// autoregressive rollout starts from), with the side renders of the coarse densities from (front, estimate).
+// The model then learns to correct an inference-like history from the front view instead of copying it.
+// Needs options.init_model "svdiff-init" (frozen, from the models folder); those samples are their own
+// variants ("...-init-history").
 //
 // SvDiff-init (frame pairs t, t+1): x = the two side views, the condition their two front views;
 // L_noise, and on guided steps L_img and L_sp.
@@ -30,6 +37,7 @@
 #pragma once
 
 #include <memory>
+#include <utility>
 
 #include "nets/diffusion/forward_process.h"
 #include "nets/diffusion/schedule.h"
@@ -52,9 +60,7 @@ class SvDiffTrainer : public StageTrainer {
                 const std::filesystem::path& models, bool initial);
 
   modules::Module& model() override { return synthesizer_.net(); }
-  std::vector<std::string> variants() const override {
-    return {"unguided-unlit", "unguided-lit", "guided-unlit", "guided-lit"};
-  }
+  std::vector<std::string> variants() const override;
   int prepare(int64_t step, diffusion::Gaussian& random) override;
   LossTerms record(Tape& tape, int variant) override;
   std::vector<Metric> validate() override;
@@ -78,7 +84,10 @@ class SvDiffTrainer : public StageTrainer {
   FrameErrors frameErrors(Tape& tape, const Var& clean, const Var& noise, const Var& noisy, const Var& predicted);
   FrontSide frontSide(Tape& tape, const Var& density, const render::RenderSettings& settings);
   LossTerms recordInitial(Tape& tape, bool guided, const render::RenderSettings& settings, FrameErrors* errors = nullptr);
-  LossTerms recordSequence(Tape& tape, bool guided, const render::RenderSettings& settings, FrameErrors* errors = nullptr);
+  LossTerms recordSequence(Tape& tape, bool guided, bool initHistory, const render::RenderSettings& settings,
+                           FrameErrors* errors = nullptr);
+  // SvDiff-init's one-step estimates of the side views of densities 0 and 1 from their front views, [0, 1].
+  std::pair<Var, Var> initEstimates(Tape& tape, const Var& front0, const Var& front1);
   int framesPerSample() const;
 
   Context& context_;
@@ -95,6 +104,10 @@ class SvDiffTrainer : public StageTrainer {
   networks::SideViewSynthesizer synthesizer_;
   std::unique_ptr<networks::DensityGenerator> coarse_;
   std::unique_ptr<networks::VelocityGenerator> velocity_;
+  double initHistory_ = 0;                                  // options.init_history
+  std::unique_ptr<networks::SideViewSynthesizer> init_;     // frozen SvDiff-init, when initHistory_ > 0
+  Var initNoise_, initSteps_;                               // [1, 2, h, w] pure noise; [1] = T - 1
+  std::unique_ptr<diffusion::StepFactorTensors> initFactors_;
   render::ViewSet frontSideViews_, sideView_;
   LookSlot look_;
   std::vector<Var> densities_;  // per sample, per frame

@@ -262,6 +262,51 @@ TEST_F(TrainingTest, SvDiffChainsItsFramesOnUnguidedStepsWhenAsked) {
                 "multi_frame_steps \"some\"");
 }
 
+// SvDiff with options.init_history: a sample drawn so is conditioned on SvDiff-init's estimates of its two
+// previous side views instead of the truth. On the same sample the noise term changes (the history did), the
+// variant says so, and a bad probability or a missing model is refused.
+TEST_F(TrainingTest, SvDiffTrainsOnSvDiffInitsHistoryWhenAsked) {
+  dataset::DatasetOptions options;
+  options.validationEvery = 4;
+  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  auto firstUnguided = [&](double initHistory) {
+    networks::NetworkConfig config = tinyConfig(networks::Network::SvDiff, 3);
+    if (initHistory > 0) {
+      config.options["init_history"] = initHistory;
+      config.options["init_model"] = "svdiff-init";
+    }
+    const auto trainer = train::makeTrainer(testContext(), config, data, tinyModels());
+    // A fresh SvDiff's output layer is zero (its initialisation), so its output would not depend on the
+    // condition: set to 0.05 everywhere, so that the loss shows what the condition holds.
+    for (const auto& [parameter, value] : trainer->model().namedParameters())
+      if (parameter == "conv_out.weight") value->value.upload(std::vector<float>(static_cast<std::size_t>(value->value.numel()), 0.05f));
+    for (int64_t step = 0;; ++step) {
+      diffusion::Gaussian random = train::stepRandom(5, step);
+      const int variant = trainer->prepare(step, random);
+      const std::string name = trainer->variants()[static_cast<std::size_t>(variant)];
+      if (name.rfind("unguided", 0) != 0) continue;
+      Stream stream(testContext());
+      Tape tape(stream);
+      const train::LossTerms terms = trainer->record(tape, variant);
+      stream.submit();
+      return std::make_pair(name, terms.terms.at(0).second->value.download()[0]);
+    }
+  };
+  const auto truth = firstUnguided(0), estimated = firstUnguided(1);
+  EXPECT_EQ(truth.first.find("init-history"), std::string::npos) << truth.first;
+  EXPECT_EQ(estimated.first, truth.first + "-init-history");
+  EXPECT_GT(estimated.second, 0.0f);
+  EXPECT_NE(estimated.second, truth.second);
+
+  networks::NetworkConfig bad = tinyConfig(networks::Network::SvDiff, 2);
+  bad.options["init_history"] = 1.5;
+  bad.options["init_model"] = "svdiff-init";
+  expectRefused(bad, "svdiff_bad_init_history", "'init_history' must be a probability in [0, 1]", "init_history 1.5");
+  bad.options["init_history"] = 0.5;
+  bad.options.erase("init_model");
+  expectRefused(bad, "svdiff_no_init_model", "'init_model'", "init_history without init_model");
+}
+
 // The fine G_rho trained on the views the reconstruction gives it (the coarse G_rho's renders at the 14
 // other slots): it trains, and validation says what it gains over the coarse density it was given.
 TEST_F(TrainingTest, FineDensityTrainsOnInferenceLikeViews) {
