@@ -3,6 +3,7 @@
 #include "nets/functional/broadcast.h"
 #include "nets/functional/concat.h"
 #include "nets/functional/elementwise.h"
+#include "nets/models/model_json.h"
 #include "runtime/error.h"
 
 namespace smokesvd::networks {
@@ -29,6 +30,15 @@ SideViewSynthesizer::SideViewSynthesizer(Context& context, const models::DdpmUNe
                 " channels (" + std::to_string(sampleChannels) + " noisy, " + std::to_string(conditionChannels) +
                 " condition) and predict " + std::to_string(sampleChannels));
   net_ = std::make_shared<models::DdpmUNet>(context, config);
+}
+
+std::unique_ptr<SideViewSynthesizer> makeSideViewSynthesizer(Context& context, const NetworkConfig& config) {
+  if (config.network != Network::SvDiff && config.network != Network::SvDiffInit)
+    throw Error(config.source + ": a side-view synthesiser needs an svdiff or svdiff-init config, not " +
+                networkName(config.network));
+  const bool initial = config.network == Network::SvDiffInit;
+  return std::make_unique<SideViewSynthesizer>(context, models::ddpmUNetFromJson(config.model, config.source + " [model]"),
+                                               initial ? 2 : 1, initial ? 2 : 5, diffusionSettings(config).prediction);
 }
 
 Var SideViewSynthesizer::predict(Tape& tape, const Var& noisy, const Var& condition, const Var& steps) {

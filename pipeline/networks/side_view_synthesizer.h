@@ -46,6 +46,10 @@ class SideViewSynthesizer {
   diffusion::Prediction prediction_;
 };
 
+// The synthesiser a trained SvDiff or SvDiff-init config describes (architecture, channels, prediction),
+// weights not loaded. Throws Error for a config of another network.
+std::unique_ptr<SideViewSynthesizer> makeSideViewSynthesizer(Context& context, const NetworkConfig& config);
+
 // [0, 1] images to the diffusion range and back: x = 2 w - 1, w = (x + 1) / 2.
 Var toDiffusionRange(Tape& tape, const Var& image);
 Var toImageRange(Tape& tape, const Var& x);

@@ -35,20 +35,17 @@ MethodModels::MethodModels(Context& context, const std::filesystem::path& folder
     hashes[networks::networkName(n)] = fileHash(trained.weights);
   };
   auto unet3 = [](const networks::TrainedModel& t) { return models::unet3PlusFromJson(t.config.model, t.config.source + " [model]"); };
-  auto ddpm = [](const networks::TrainedModel& t) { return models::ddpmUNetFromJson(t.config.model, t.config.source + " [model]"); };
 
   std::vector<modules::Module*> modules;
   if (sideViews) {
     const auto sv = networks::findTrainedModel(folder, Network::SvDiff, preset);
-    const networks::DiffusionSettings svDiffusion = networks::diffusionSettings(sv.config);
-    sideView = std::make_unique<networks::SideViewSynthesizer>(context, ddpm(sv), 1, 5, svDiffusion.prediction);
+    sideView = networks::makeSideViewSynthesizer(context, sv.config);
     load(Network::SvDiff, sideView->net(), sv);
-    schedule = svDiffusion.schedule;
+    schedule = networks::diffusionSettings(sv.config).schedule;
     const auto svi = networks::findTrainedModel(folder, Network::SvDiffInit, preset);
-    const networks::DiffusionSettings sviDiffusion = networks::diffusionSettings(svi.config);
-    sideViewInit = std::make_unique<networks::SideViewSynthesizer>(context, ddpm(svi), 2, 2, sviDiffusion.prediction);
+    sideViewInit = networks::makeSideViewSynthesizer(context, svi.config);
     load(Network::SvDiffInit, sideViewInit->net(), svi);
-    initSchedule = sviDiffusion.schedule;
+    initSchedule = networks::diffusionSettings(svi.config).schedule;
     modules = {&sideView->net(), &sideViewInit->net()};
   }
   const auto gc = networks::findTrainedModel(folder, Network::GrhoCoarse, preset);

@@ -27,7 +27,8 @@ Var sumOf(Tape& tape, const std::vector<Var>& terms) {
   return sum;
 }
 
-Var zero(Tape& tape) { return variable(Tensor::fromHost(tape.context(), {1}, std::vector<float>{0.0f})); }
+Var constant(Tape& tape, float value) { return variable(Tensor::fromHost(tape.context(), {1}, std::vector<float>{value})); }
+Var zero(Tape& tape) { return constant(tape, 0.0f); }
 
 // Images i of a batch [k, 1, h, w] as [1, 1, h, w].
 Var image(Tape& tape, const Var& images, int index) {
@@ -42,8 +43,7 @@ SvDiffTrainer::SvDiffTrainer(Context& context, const networks::NetworkConfig& co
                              const std::filesystem::path& models, bool initial)
     : context_(context), config_(config), data_(data), initial_(initial),
       schedule_(networks::diffusionSettings(config).schedule),
-      synthesizer_(context, models::ddpmUNetFromJson(config.model, config.source + " [model]"), initial ? 2 : 1,
-                   initial ? 2 : 5, networks::diffusionSettings(config).prediction),
+      synthesizer_(std::move(*networks::makeSideViewSynthesizer(context, config))),
       look_(context), factors_(context, config.train.batch) {
   const std::string lossWhere = config.source + " [loss]", optionsWhere = config.source + " [options]";
   const Preset& p = data.preset();
@@ -102,16 +102,15 @@ SvDiffTrainer::SvDiffTrainer(Context& context, const networks::NetworkConfig& co
       if (networks::text(config.options, "init_model", optionsWhere) != "svdiff-init")
         throw Error(optionsWhere + ": 'init_model' must be \"svdiff-init\" (needed by 'init_history')");
       const networks::TrainedModel svi = networks::findTrainedModel(models, networks::Network::SvDiffInit, p);
-      const networks::DiffusionSettings initDiffusion = networks::diffusionSettings(svi.config);
-      init_ = std::make_unique<networks::SideViewSynthesizer>(
-          context, models::ddpmUNetFromJson(svi.config.model, svi.config.source + " [model]"), 2, 2, initDiffusion.prediction);
+      init_ = networks::makeSideViewSynthesizer(context, svi.config);
       networks::loadTrainedWeights(svi, init_->net());
       networks::freeze(init_->net());
-      const int last = initDiffusion.schedule.steps() - 1;
+      const diffusion::NoiseSchedule initSchedule = networks::diffusionSettings(svi.config).schedule;
+      const int last = initSchedule.steps() - 1;
       initNoise_ = variable(Tensor(context, {1, 2, p.imageHeight, p.imageWidth}));
       initSteps_ = variable(Tensor::fromHost(context, {1}, std::vector<float>{static_cast<float>(last)}));
       initFactors_ = std::make_unique<diffusion::StepFactorTensors>(context, 1);
-      initFactors_->upload(diffusion::stepFactors(initDiffusion.schedule, std::vector<int>{last}));
+      initFactors_->upload(diffusion::stepFactors(initSchedule, std::vector<int>{last}));
     }
   }
   const int volumes = initial ? 2 * batch_ : frames_ + 2;
@@ -177,7 +176,7 @@ std::pair<Var, Var> SvDiffTrainer::initEstimates(Tape& tape, const Var& front0, 
   const Var w = networks::toImageRange(
       tape, diffusion::cleanFromPrediction(tape, init_->prediction(), initNoise_, predicted, *initFactors_));
   // clamp(w, 0, 1) = 1 - relu(1 - relu(w))
-  const Var one = variable(Tensor::fromHost(tape.context(), {1}, std::vector<float>{1.0f}));
+  const Var one = constant(tape, 1.0f);
   auto oneMinus = [&](const Var& x) { return fn::broadcastBinary(tape, ops::BinaryOp::Add, fn::scale(tape, x, -1.0f), one); };
   const Var clamped = oneMinus(fn::relu(tape, oneMinus(fn::relu(tape, w))));
   return {fn::sliceChannels(tape, clamped, 0, 1), fn::sliceChannels(tape, clamped, 1, 2)};
