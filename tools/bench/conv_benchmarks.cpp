@@ -102,6 +102,22 @@ void blockings(BenchContext& b) {
   }
 }
 
+// The pointwise kernel's blockings (position vec4s x output channels) on the small G_rho's 1x1x1 shapes.
+void pointwiseBlockings(BenchContext& b) {
+  for (const ConvShape* c : {&kNetworkShapes[3], &kNetworkShapes[4], &kNetworkShapes[5]}) {
+    const Operands o = operands(b.context(), *c);
+    for (ops::ConvBlocking blocking : {ops::ConvBlocking{4, 1}, ops::ConvBlocking{8, 1}, ops::ConvBlocking{16, 1},
+                                       ops::ConvBlocking{4, 2}, ops::ConvBlocking{8, 2}, ops::ConvBlocking{16, 2},
+                                       ops::ConvBlocking{4, 3}, ops::ConvBlocking{4, 4}, ops::ConvBlocking{8, 4}}) {
+      const std::string tag = std::to_string(blocking.pixels / 4) + "x" + std::to_string(blocking.channelVec4s * 4);
+      b.measure("conv-blocking/" + c->name.substr(9) + "-forward-" + tag, c->shape, 0, flops(*c),
+                [&](Stream& s) { ops::convForward(s, o.x, o.w, &o.b, c->params, o.y, blocking); });
+      b.measure("conv-blocking/" + c->name.substr(9) + "-backward-input-" + tag, c->shape, 0, flops(*c),
+                [&](Stream& s) { ops::convBackwardInput(s, o.dy, o.w, c->params, o.dx, blocking); });
+    }
+  }
+}
+
 const bool registered =
     registerBenchmark({"conv/2d-3x3-64", [](BenchContext& b) { passes(b, kConv2d, "conv2d", {}); }}) &&
     registerBenchmark({"conv/2d-3x3-64-stride2", [](BenchContext& b) { passes(b, kConv2dStrided, "conv2d-s2", {}); }}) &&
@@ -110,6 +126,7 @@ const bool registered =
     registerBenchmark({"conv/transpose2d-2x2", [](BenchContext& b) { transposedPasses(b, kTranspose2d); }}) &&
     registerBenchmark({"conv/transpose3d-2x2x2", [](BenchContext& b) { transposedPasses(b, kTranspose3d); }}) &&
     registerBenchmark({"conv-blocking/sweep", blockings}) &&
+    registerBenchmark({"conv-blocking/pointwise", pointwiseBlockings}) &&
     registerBenchmark({"conv-net/grho-small", [](BenchContext& b) {
                          for (const ConvShape& c : kNetworkShapes) passes(b, c, c.name, {});
                        }});
