@@ -102,18 +102,23 @@ void blockings(BenchContext& b) {
   }
 }
 
-// The pointwise kernel's blockings (position vec4s x output channels) on the small G_rho's 1x1x1 shapes.
+// The pointwise kernel's blockings (position vec4s x output channels) on the small G_rho's 1x1x1 shapes
+// with more than one output channel (a single channel leaves nothing to block).
 void pointwiseBlockings(BenchContext& b) {
-  for (const ConvShape* c : {&kNetworkShapes[3], &kNetworkShapes[4], &kNetworkShapes[5]}) {
-    const Operands o = operands(b.context(), *c);
+  const std::string group = "conv-net/";
+  for (const ConvShape& c : kNetworkShapes) {
+    const bool pointwise = numElements(c.w) == c.w[0] * c.w[1];
+    if (!pointwise || c.w[0] == 1) continue;
+    const Operands o = operands(b.context(), c);
+    const std::string name = c.name.substr(group.size());  // e.g. "1x1x1-48"
     for (ops::ConvBlocking blocking : {ops::ConvBlocking{4, 1}, ops::ConvBlocking{8, 1}, ops::ConvBlocking{16, 1},
                                        ops::ConvBlocking{4, 2}, ops::ConvBlocking{8, 2}, ops::ConvBlocking{16, 2},
                                        ops::ConvBlocking{4, 3}, ops::ConvBlocking{4, 4}, ops::ConvBlocking{8, 4}}) {
       const std::string tag = std::to_string(blocking.pixels / 4) + "x" + std::to_string(blocking.channelVec4s * 4);
-      b.measure("conv-blocking/" + c->name.substr(9) + "-forward-" + tag, c->shape, 0, flops(*c),
-                [&](Stream& s) { ops::convForward(s, o.x, o.w, &o.b, c->params, o.y, blocking); });
-      b.measure("conv-blocking/" + c->name.substr(9) + "-backward-input-" + tag, c->shape, 0, flops(*c),
-                [&](Stream& s) { ops::convBackwardInput(s, o.dy, o.w, c->params, o.dx, blocking); });
+      b.measure("conv-blocking/" + name + "-forward-" + tag, c.shape, 0, flops(c),
+                [&](Stream& s) { ops::convForward(s, o.x, o.w, &o.b, c.params, o.y, blocking); });
+      b.measure("conv-blocking/" + name + "-backward-input-" + tag, c.shape, 0, flops(c),
+                [&](Stream& s) { ops::convBackwardInput(s, o.dy, o.w, c.params, o.dx, blocking); });
     }
   }
 }
