@@ -6,6 +6,7 @@
 #include "pipeline/differentiable/render.h"
 #include "pipeline/media/image.h"
 #include "pipeline/networks/view_slots.h"
+#include "pipeline/progress.h"
 #include "pipeline/render/render_images.h"
 #include "pipeline/train/view_losses.h"
 #include "runtime/error.h"
@@ -53,8 +54,12 @@ nlohmann::json RolloutResult::toJson() const {
 }
 
 RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int frames,
-                              int scenes, const SideViewOptions& options, RolloutHistory history) {
+                              int scenes, const SideViewOptions& options, RolloutHistory history, bool progress) {
   const Preset& preset = data.preset();
+  const auto eligible = std::count_if(data.validation().begin(), data.validation().end(),
+                                      [frames](const dataset::SceneEntry& scene) { return scene.frames >= frames; });
+  const int64_t totalFrames = std::min<int64_t>(eligible, scenes) * frames;
+  Progress bar(totalFrames, 0, frames, !progress);  // off a terminal, a line per scene
   RolloutResult result;
   result.trueHistory = history == RolloutHistory::Truth;
   result.psnr.assign(static_cast<std::size_t>(frames), 0.0);
@@ -109,9 +114,13 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
       if (t > 0)
         result.previous[static_cast<std::size_t>(t - 1)] +=
             train::psnr(sides[static_cast<std::size_t>(t - 1)].values, sides[static_cast<std::size_t>(t)].values);
+      bar.update(static_cast<int64_t>(result.scenes) * frames + t + 1,
+                 "scene " + std::to_string(result.scenes + 1) + "/" + std::to_string(std::min<int64_t>(eligible, scenes)) +
+                     " frame " + std::to_string(t));
     }
     ++result.scenes;
   }
+  bar.finish();
   if (result.scenes == 0)
     throw Error(data.root().string() + ": no validation scene has the " + std::to_string(frames) + " frames of the rollout");
   for (double& v : result.psnr) v /= result.scenes;

@@ -41,8 +41,10 @@ struct RolloutResult {
 
 enum class RolloutHistory { Own, Truth };
 
-// Rolls out `frames` frames on up to `scenes` validation scenes that have that many frames.
+// Rolls out `frames` frames on up to `scenes` validation scenes that have that many frames; with
+// `progress`, a progress line over those scenes' frames on stderr (pipeline/progress.h).
 RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int frames,
-                              int scenes, const SideViewOptions& options, RolloutHistory history = RolloutHistory::Own);
+                              int scenes, const SideViewOptions& options, RolloutHistory history = RolloutHistory::Own,
+                              bool progress = false);
 
 }  // namespace smokesvd::reconstruct

@@ -20,6 +20,7 @@ struct RolloutArguments {
   reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start
   int validationEvery = 10;
   std::string history = "own";
+  bool quiet = false;
 };
 
 void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& action) {
@@ -38,6 +39,7 @@ void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& actio
                 "truth: on the true ones (teacher forcing), to tell drift from harder frames")
       ->check(CLI::IsMember({"own", "truth"}));
   c->add_option("--out", a.out, "JSON file of the per-frame figures");
+  c->add_flag("--quiet", a.quiet, "no progress line");
   c->callback([&global, &action] {
     action = [&global] {
       const Preset& p = preset(a.preset);
@@ -48,7 +50,8 @@ void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& actio
       reconstruct::MethodModels models(context, a.models.empty() ? reconstruct::defaultModelsFolder(a.preset) : std::filesystem::path(a.models), p);
       const reconstruct::RolloutResult r =
           reconstruct::sideViewRollout(context, models, data, a.frames, a.scenes, a.sampling,
-                                       a.history == "truth" ? reconstruct::RolloutHistory::Truth : reconstruct::RolloutHistory::Own);
+                                       a.history == "truth" ? reconstruct::RolloutHistory::Truth : reconstruct::RolloutHistory::Own,
+                                       !a.quiet);
       std::cout << (r.trueHistory ? "side views from true history" : "side views") << " over " << a.frames << " frames of " << r.scenes << " held-out scenes: PSNR " << r.mean()
                 << " dB (mirrored front view " << r.mirroredMean() << " dB, all-black " << r.blackMean()
                 << " dB); first 10 frames " << r.firstTen() << " dB (mirrored " << r.mirroredFirstTen() << "), last 10 "
