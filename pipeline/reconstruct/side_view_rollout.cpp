@@ -58,8 +58,8 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
   const Preset& preset = data.preset();
   const auto eligible = std::count_if(data.validation().begin(), data.validation().end(),
                                       [frames](const dataset::SceneEntry& scene) { return scene.frames >= frames; });
-  const int64_t totalFrames = std::min<int64_t>(eligible, scenes) * frames;
-  Progress bar(totalFrames, 0, frames, !progress);  // off a terminal, a line per scene
+  const int64_t rolledScenes = std::min<int64_t>(eligible, scenes);
+  Progress bar(rolledScenes * frames, 0, frames, !progress);  // off a terminal, a line per scene
   RolloutResult result;
   result.trueHistory = history == RolloutHistory::Truth;
   result.psnr.assign(static_cast<std::size_t>(frames), 0.0);
@@ -115,7 +115,7 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
         result.previous[static_cast<std::size_t>(t - 1)] +=
             train::psnr(sides[static_cast<std::size_t>(t - 1)].values, sides[static_cast<std::size_t>(t)].values);
       bar.update(static_cast<int64_t>(result.scenes) * frames + t + 1,
-                 "scene " + std::to_string(result.scenes + 1) + "/" + std::to_string(std::min<int64_t>(eligible, scenes)) +
+                 "scene " + std::to_string(result.scenes + 1) + "/" + std::to_string(rolledScenes) +
                      " frame " + std::to_string(t));
     }
     ++result.scenes;
