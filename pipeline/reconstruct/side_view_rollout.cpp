@@ -56,9 +56,12 @@ nlohmann::json RolloutResult::toJson() const {
 RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int frames,
                               int scenes, const SideViewOptions& options, RolloutHistory history, bool progress) {
   const Preset& preset = data.preset();
-  const auto eligible = std::count_if(data.validation().begin(), data.validation().end(),
-                                      [frames](const dataset::SceneEntry& scene) { return scene.frames >= frames; });
-  const int64_t rolledScenes = std::min<int64_t>(eligible, scenes);
+  std::vector<const dataset::SceneEntry*> rolled;  // the first `scenes` validation scenes with enough frames
+  for (const dataset::SceneEntry& scene : data.validation())
+    if (scene.frames >= frames && static_cast<int>(rolled.size()) < scenes) rolled.push_back(&scene);
+  if (rolled.empty())
+    throw Error(data.root().string() + ": no validation scene has the " + std::to_string(frames) + " frames of the rollout");
+  const auto rolledScenes = static_cast<int64_t>(rolled.size());
   Progress bar(rolledScenes * frames, 0, frames, !progress);  // off a terminal, a line per scene
   RolloutResult result;
   result.trueHistory = history == RolloutHistory::Truth;
@@ -68,9 +71,8 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
   result.previous.assign(static_cast<std::size_t>(frames - 1), 0.0);
   const std::vector<Camera> frontSide{networks::orbitCameraAt(preset, 0), networks::orbitCameraAt(preset, 90)};
   const render::ViewSet sideCamera = render::uploadViews(context, std::vector<Camera>{frontSide[1]});
-  for (const dataset::SceneEntry& scene : data.validation()) {
-    if (result.scenes >= scenes) break;
-    if (scene.frames < frames) continue;
+  for (const dataset::SceneEntry* rolledScene : rolled) {
+    const dataset::SceneEntry& scene = *rolledScene;
     const render::RenderSettings look = data.look(scene);
     std::vector<media::Image> fronts, sides;
     for (int t = 0; t < frames; ++t) {
@@ -121,8 +123,6 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
     ++result.scenes;
   }
   bar.finish();
-  if (result.scenes == 0)
-    throw Error(data.root().string() + ": no validation scene has the " + std::to_string(frames) + " frames of the rollout");
   for (double& v : result.psnr) v /= result.scenes;
   for (double& v : result.mirrored) v /= result.scenes;
   for (double& v : result.black) v /= result.scenes;
