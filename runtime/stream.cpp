@@ -266,6 +266,73 @@ void Stream::copy(const Tensor& source, const Tensor& destination) {
   writtenSinceBarrier_.insert(destination.buffer().handle());
 }
 
+namespace {
+
+// Throws unless the parts fit `whole` at their offsets without overlapping, in ascending order.
+void checkParts(const char* what, std::span<const Tensor> parts, std::span<const int64_t> offsets, const Tensor& whole) {
+  if (parts.size() != offsets.size())
+    throw Error(std::string(what) + ": " + std::to_string(parts.size()) + " parts but " +
+                std::to_string(offsets.size()) + " offsets");
+  int64_t end = 0;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (offsets[i] < end || offsets[i] + parts[i].numel() > whole.numel())
+      throw Error(std::string(what) + ": part " + std::to_string(i) + " (" + toString(parts[i].shape()) +
+                  " at element " + std::to_string(offsets[i]) + ") overlaps the part before it or ends past the " +
+                  std::to_string(whole.numel()) + " elements of the whole");
+    if (&parts[i].buffer() == &whole.buffer())
+      throw Error(std::string(what) + ": part " + std::to_string(i) + " is the whole tensor itself");
+    end = offsets[i] + parts[i].numel();
+  }
+}
+
+VkBufferCopy region(int64_t sourceElement, int64_t destinationElement, int64_t elements) {
+  constexpr auto kFloat = static_cast<VkDeviceSize>(sizeof(float));
+  return {static_cast<VkDeviceSize>(sourceElement) * kFloat, static_cast<VkDeviceSize>(destinationElement) * kFloat,
+          static_cast<VkDeviceSize>(elements) * kFloat};
+}
+
+}  // namespace
+
+void Stream::gather(std::span<const Tensor> parts, std::span<const int64_t> offsets, const Tensor& whole) {
+  checkParts("gather", parts, offsets, whole);
+  if (parts.empty()) return;
+  begin();
+  // `whole` is held as read too: elements outside the parts keep their contents, so its memory may not
+  // be swapped for a dead tensor's.
+  hold(whole.buffer(), true, true);
+  for (const Tensor& part : parts) hold(part.buffer(), true, false);
+  for (const Tensor& part : parts) access(part.buffer(), true, false);
+  access(whole.buffer(), false, true);
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (parts[i].numel() == 0) continue;
+    const VkBufferCopy copyRegion = region(0, offsets[i], parts[i].numel());
+    vkCmdCopyBuffer(commands_, parts[i].buffer().handle(), whole.buffer().handle(), 1, &copyRegion);
+    readSinceBarrier_.insert(parts[i].buffer().handle());
+  }
+  writtenSinceBarrier_.insert(whole.buffer().handle());
+}
+
+void Stream::scatter(const Tensor& whole, std::span<const int64_t> offsets, std::span<const Tensor> parts) {
+  checkParts("scatter", parts, offsets, whole);
+  std::unordered_set<const Buffer*> distinct;
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    if (!distinct.insert(&parts[i].buffer()).second)
+      throw Error("scatter: part " + std::to_string(i) + " shares its buffer with an earlier part");
+  if (parts.empty()) return;
+  begin();
+  hold(whole.buffer(), true, false);
+  for (const Tensor& part : parts) hold(part.buffer(), false, true);
+  access(whole.buffer(), true, false);
+  for (const Tensor& part : parts) access(part.buffer(), false, true);
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (parts[i].numel() == 0) continue;
+    const VkBufferCopy copyRegion = region(offsets[i], 0, parts[i].numel());
+    vkCmdCopyBuffer(commands_, whole.buffer().handle(), parts[i].buffer().handle(), 1, &copyRegion);
+    writtenSinceBarrier_.insert(parts[i].buffer().handle());
+  }
+  readSinceBarrier_.insert(whole.buffer().handle());
+}
+
 void Stream::fillZero(const Tensor& tensor) {
   if (tensor.numel() == 0) return;
   begin();

@@ -101,6 +101,14 @@ class Stream {
 
   void copy(const Tensor& source, const Tensor& destination);  // same number of elements
   void fillZero(const Tensor& tensor);
+  // Copies each part into `whole` from element offsets[i] on (gather), or out of it (scatter): one transfer
+  // command per part and no barrier between them, since the parts' ranges of `whole` may not overlap
+  // (offsets ascending, each part ending before the next begins). On lavapipe a transfer command costs
+  // about a microsecond where a dispatch costs tens to a hundred (docs/benchmarks.md, dispatch/), so
+  // kernels that do the same to many small tensors gather them into one and run once (nets/optim/).
+  // Elements of `whole` outside the parts are left as they are.
+  void gather(std::span<const Tensor> parts, std::span<const int64_t> offsets, const Tensor& whole);
+  void scatter(const Tensor& whole, std::span<const int64_t> offsets, std::span<const Tensor> parts);
 
   // Named GPU-timed regions; they may nest. Times are available after submit().
   void beginRegion(std::string name);

@@ -11,11 +11,17 @@
 // recorded step (shaders/nn/optimizer_step.comp). So a training step recorded once (forward,
 // backward, clipping, Adam) can be submitted again and again unchanged: nothing is written or read by
 // the host per step. See docs/nn-training.md.
+//
+// The moments of the small parameters live in two flat tensors (flat_layout.h); a step gathers those
+// parameters and their gradients into flat tensors of the same layout, updates them in one dispatch (one
+// per run of parameters that have a gradient) and scatters the parameters back. Large parameters keep
+// moments of their own and get a dispatch each.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "nets/optim/flat_layout.h"
 #include "nets/optim/grad_clip.h"
 #include "nets/optim/parameters.h"
 #include "nets/optim/schedule.h"
@@ -54,8 +60,10 @@ class Adam {
   // Sets the counter, e.g. when resuming from a checkpoint; 0 <= steps <= kMaxSteps.
   void setSteps(int64_t steps);
 
-  // The optimiser's state by name: "<parameter>.exp_avg" and "<parameter>.exp_avg_sq" per parameter.
+  // Copies of the optimiser's state by name: "<parameter>.exp_avg" and "<parameter>.exp_avg_sq" per parameter.
   std::vector<std::pair<std::string, Tensor>> namedState() const;
+  // Sets the state from tensors named and shaped as namedState() gives them (e.g. its copies, loaded).
+  void restoreState(const std::vector<std::pair<std::string, Tensor>>& state);
   // [t, lr, lr / c1, sqrt(c2), 1 - lr weightDecay (AdamW) or 1, c1 = 1 - beta1^t, c2 = 1 - beta2^t, unused]
   const Tensor& scalars() const { return scalars_; }
   // The learning rate of the last step taken (read back).
@@ -66,8 +74,11 @@ class Adam {
  private:
   AdamOptions options_;
   NamedParameters parameters_;
-  std::vector<Tensor> expAvg_;
-  std::vector<Tensor> expAvgSq_;
+  std::vector<Tensor> values_;  // the parameters' values, in order
+  FlatLayout layout_;
+  Tensor expAvg_, expAvgSq_;                         // the gathered parameters' moments, flat
+  std::vector<Tensor> aloneExpAvg_, aloneExpAvgSq_;  // the other parameters' moments (empty for gathered ones)
+  Tensor gatheredValues_, gatheredGradients_;        // what each step gathers, updates and scatters back
   Tensor scalars_;
   Tensor noClip_;  // [0, 1]: the factor 1 when there is no clipping
 };

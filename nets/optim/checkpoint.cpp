@@ -22,13 +22,19 @@ std::string number(double value) {
   return text.str();
 }
 
-NamedTensors everything(const NamedParameters& model, const Adam& adam, const Ema* ema) {
-  NamedTensors tensors;
-  for (const auto& [name, parameter] : model) tensors.emplace_back(name, parameter->value);
-  for (const auto& [name, tensor] : adam.namedState()) tensors.emplace_back("optimizer." + name, tensor);
-  if (ema)
-    for (const auto& [name, tensor] : ema->namedShadows()) tensors.emplace_back("ema." + name, tensor);
-  return tensors;
+// What a checkpoint holds: the model's tensors themselves, copies of the optimiser's state and the EMA's
+// shadows (restored from the copies after a load).
+struct Contents {
+  NamedTensors state, shadows;
+  NamedTensors all;
+};
+
+Contents everything(const NamedParameters& model, const Adam& adam, const Ema* ema) {
+  Contents contents{adam.namedState(), ema ? ema->namedShadows() : NamedTensors{}, {}};
+  for (const auto& [name, parameter] : model) contents.all.emplace_back(name, parameter->value);
+  for (const auto& [name, tensor] : contents.state) contents.all.emplace_back("optimizer." + name, tensor);
+  for (const auto& [name, tensor] : contents.shadows) contents.all.emplace_back("ema." + name, tensor);
+  return contents;
 }
 
 std::string required(const std::map<std::string, std::string>& metadata, const std::string& key,
@@ -53,7 +59,7 @@ void saveCheckpoint(const std::filesystem::path& path, const NamedParameters& mo
   all["beta2"] = number(options.beta2);
   all["eps"] = number(options.eps);
   all["weight_decay"] = number(options.weightDecay);
-  io::writeSafetensors(path, io::downloadNamed(everything(model, adam, ema)), all);
+  io::writeSafetensors(path, io::downloadNamed(everything(model, adam, ema).all), all);
 }
 
 std::map<std::string, std::string> loadCheckpoint(const std::filesystem::path& path, const NamedParameters& model,
@@ -77,7 +83,10 @@ std::map<std::string, std::string> loadCheckpoint(const std::filesystem::path& p
   } catch (const std::logic_error&) {
     throw Error(source + ": checkpoint metadata 'step' is '" + stepText + "', not a step count in [0, 2^24]");
   }
-  io::uploadNamed(file, everything(model, adam, ema), source);
+  const Contents contents = everything(model, adam, ema);
+  io::uploadNamed(file, contents.all, source);
+  adam.restoreState(contents.state);
+  if (ema) ema->restoreShadows(contents.shadows);
   adam.setSteps(step);
   return file.metadata;
 }

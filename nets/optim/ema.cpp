@@ -7,32 +7,54 @@ namespace smokesvd::optim {
 Ema::Ema(Context& context, NamedParameters parameters, double decay)
     : parameters_(std::move(parameters)), decay_(decay) {
   if (!(decay >= 0 && decay <= 1)) throw Error("EMA: decay must be in [0, 1], got " + std::to_string(decay));
-  Stream copy(context);
-  for (const auto& [name, parameter] : parameters_) {
-    shadows_.emplace_back(context, parameter->value.shape());
-    copy.copy(parameter->value, shadows_.back());
-  }
-  copy.submit();
+  for (const auto& [name, parameter] : parameters_) values_.push_back(parameter->value);
+  layout_ = flatLayout(values_);
+  shadows_ = zeroFlat(context, layout_);
+  gathered_ = zeroFlat(context, layout_);
+  for (std::size_t i = 0; i < values_.size(); ++i)
+    aloneShadows_.push_back(layout_.gathered(i) ? Tensor() : Tensor(context, values_[i].shape()));
+  optim::restoreState(values_, shadows_, aloneShadows_, layout_);
 }
 
 void Ema::update(Stream& stream) const {
   const Kernel& kernel = stream.kernel("nn/ema", {128, 1, 1});
-  for (std::size_t i = 0; i < shadows_.size(); ++i) {
-    const Tensor& shadow = shadows_[i];
-    struct { uint32_t n; float decay; } push{static_cast<uint32_t>(shadow.numel()), static_cast<float>(decay_)};
-    stream.dispatchFlat(kernel, {asVec4(shadow), asVec4(parameters_[i].second->value), shadow}, push,
-                        (shadow.numel() + 3) / 4);
-  }
+  auto record = [&](const Tensor& shadow, const Tensor& value, int64_t n) {
+    struct { uint32_t n; float decay; } push{static_cast<uint32_t>(n), static_cast<float>(decay_)};
+    stream.dispatchFlat(kernel, {asVec4(shadow), asVec4(value), shadow}, push, (n + 3) / 4);
+  };
+  const FlatParts parts = flatParts(layout_, values_, [](std::size_t) { return true; });
+  stream.gather(parts.tensors, parts.offsets, gathered_);
+  if (!parts.tensors.empty()) record(shadows_, gathered_, layout_.total);
+  for (std::size_t i = 0; i < values_.size(); ++i)
+    if (!layout_.gathered(i)) record(aloneShadows_[i], values_[i], values_[i].numel());
 }
 
 void Ema::copyToParameters(Stream& stream) const {
-  for (std::size_t i = 0; i < shadows_.size(); ++i) stream.copy(shadows_[i], parameters_[i].second->value);
+  const FlatParts parts = flatParts(layout_, values_, [](std::size_t) { return true; });
+  stream.scatter(shadows_, parts.offsets, parts.tensors);
+  for (std::size_t i = 0; i < values_.size(); ++i)
+    if (!layout_.gathered(i)) stream.copy(aloneShadows_[i], values_[i]);
 }
 
 std::vector<std::pair<std::string, Tensor>> Ema::namedShadows() const {
-  std::vector<std::pair<std::string, Tensor>> named;
-  for (std::size_t i = 0; i < shadows_.size(); ++i) named.emplace_back(parameters_[i].first, shadows_[i]);
-  return named;
+  std::vector<std::pair<std::string, Tensor>> like;
+  for (const auto& [name, parameter] : parameters_) like.emplace_back(name, parameter->value);
+  return copyState(shadows_, aloneShadows_, layout_, like);
+}
+
+void Ema::restoreShadows(const std::vector<std::pair<std::string, Tensor>>& shadows) {
+  if (shadows.size() != parameters_.size())
+    throw Error("EMA: restoring " + std::to_string(shadows.size()) + " shadows, expected " +
+                std::to_string(parameters_.size()));
+  std::vector<Tensor> from;
+  for (std::size_t i = 0; i < parameters_.size(); ++i) {
+    const auto& [name, shadow] = shadows[i];
+    if (name != parameters_[i].first || shadow.shape() != values_[i].shape())
+      throw Error("EMA: restoring shadow " + std::to_string(i) + " '" + name + "' " + toString(shadow.shape()) +
+                  ", expected '" + parameters_[i].first + "' " + toString(values_[i].shape()));
+    from.push_back(shadow);
+  }
+  optim::restoreState(from, shadows_, aloneShadows_, layout_);
 }
 
 }  // namespace smokesvd::optim

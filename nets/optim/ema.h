@@ -1,11 +1,14 @@
 // An exponential moving average of weights on the GPU, as kept for diffusion models:
 //   shadow = decay shadow + (1 - decay) param   (computed as torch's lerp: shadow + (1 - decay)(param - shadow))
 // The shadows start as copies of the parameters and carry the parameters' names, so they can be saved
-// as a weight file that loads into the same model (here or in PyTorch).
+// as a weight file that loads into the same model (here or in PyTorch). The small parameters' shadows live
+// in one flat tensor (flat_layout.h): an update gathers those parameters into another and averages them in
+// one dispatch; large parameters have shadows and a dispatch of their own.
 #pragma once
 
 #include <vector>
 
+#include "nets/optim/flat_layout.h"
 #include "nets/optim/parameters.h"
 #include "runtime/stream.h"
 #include "runtime/tensor.h"
@@ -21,13 +24,19 @@ class Ema {
   // Records shadow -> parameter copies (to evaluate or export the averaged model).
   void copyToParameters(Stream& stream) const;
 
-  // The shadows under the parameters' names.
+  // Copies of the shadows under the parameters' names.
   std::vector<std::pair<std::string, Tensor>> namedShadows() const;
+  // Sets the shadows from tensors named and shaped as namedShadows() gives them.
+  void restoreShadows(const std::vector<std::pair<std::string, Tensor>>& shadows);
   double decay() const { return decay_; }
 
  private:
   NamedParameters parameters_;
-  std::vector<Tensor> shadows_;
+  std::vector<Tensor> values_;        // the parameters' values, in order
+  FlatLayout layout_;
+  Tensor shadows_;                    // the gathered parameters' shadows, flat
+  std::vector<Tensor> aloneShadows_;  // the other parameters' shadows (empty for gathered ones)
+  Tensor gathered_;                   // the parameters each update gathers
   double decay_;
 };
 

@@ -11,8 +11,10 @@
 // computes them (1 - float(0.999) would be off by 1.3e-5 relative). p, m and v are read through texel
 // views and written in place through storage views of the same buffers (each invocation reads its items
 // before writing them).
-// Index: workgroup w (flat), lane l, k < ITEMS: vec4 item = (w ITEMS + k) local_size_x + l, so the
-// lanes of a workgroup stay on adjacent texels.
+// The tensors are flat (nets/optim/flat_layout.h: every parameter of a model end to end); one dispatch
+// updates the vec4 items from first_vec4 on while 4 item < end.
+// Index: workgroup w (flat), lane l, k < ITEMS: vec4 item = first_vec4 + (w ITEMS + k) local_size_x + l,
+// so the lanes of a workgroup stay on adjacent texels.
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const uint ITEMS = 2;  // vec4s per invocation
 
@@ -26,7 +28,8 @@ layout(std430, binding = 6) writeonly buffer Param { vec4 param_out[]; };
 layout(std430, binding = 7) writeonly buffer M { vec4 m_out[]; };
 layout(std430, binding = 8) writeonly buffer V { vec4 v_out[]; };
 layout(push_constant) uniform Push {
-  uint n;
+  uint first_vec4;
+  uint end;
   float one_minus_beta1;
   float beta2;
   float one_minus_beta2;
@@ -36,8 +39,8 @@ layout(push_constant) uniform Push {
 
 void main() {
   const uint group = gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x;
-  const uint first = group * ITEMS * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
-  if (4u * first >= n) return;
+  const uint first = first_vec4 + group * ITEMS * gl_WorkGroupSize.x + gl_LocalInvocationID.x;
+  if (4u * first >= end) return;
   const vec4 step0 = texelFetch(state4, 0);
   const vec4 step1 = texelFetch(state4, 1);
   const float step_size = step0.z;
@@ -47,7 +50,7 @@ void main() {
 
   for (uint k = 0u; k < ITEMS; ++k) {
     const uint item = first + k * gl_WorkGroupSize.x;
-    if (4u * item >= n) return;
+    if (4u * item >= end) return;
     vec4 p = texelFetch(param4, int(item));
     vec4 g = texelFetch(grad4, int(item)) * clip_factor;
     if (l2_decay != 0.0) g += l2_decay * p;

@@ -1,9 +1,9 @@
 #version 450
 // First pass of the global gradient norm: partial[offset + g] = sum of grad[i]^2 over the items
-// workgroup g visits (grid-stride over vec4 texels of one gradient, four texels per iteration into a vec4
-// accumulator while whole texels remain, about 1.5x faster on lavapipe than one; then a tree in shared
-// memory).
-// Each gradient gets its own range of partials; nn/clip_factor adds them all.
+// workgroup g visits (grid-stride over vec4 texels of one large gradient, or of the small ones gathered end
+// to end, nets/optim/flat_layout.h; four texels per iteration into a vec4 accumulator while whole texels
+// remain, about 1.5x faster on lavapipe than one; then a tree in shared memory).
+// Each pass gets its own range of partials; nn/clip_factor adds them all.
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 
 layout(binding = 0) uniform samplerBuffer grad4;

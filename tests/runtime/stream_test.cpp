@@ -81,6 +81,55 @@ TEST_F(StreamTest, CopyAndFillZeroAreOrdered) {
   EXPECT_TRUE(allClose(b, std::vector<double>(333, 0.0), {0, 0}));
 }
 
+// Parts of odd sizes gathered into a whole at offsets with gaps, doubled there by a dispatch that reads the
+// gather's writes, and scattered back into poisoned parts: every element of each part comes back doubled,
+// the gaps of the whole keep what they held, and the transfers need no barrier between them.
+TEST_F(StreamTest, GatherAndScatterMoveEachPartToItsOffsetAndBack) {
+  const std::vector<int64_t> sizes{5, 1, 333, 8};
+  const std::vector<int64_t> offsets{0, 7, 9, 400};
+  std::vector<Tensor> parts, back;
+  std::vector<std::vector<float>> values;
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    values.emplace_back();
+    parts.push_back(randomTensor(context(), {sizes[i]}, 30 + i, -1, 1, &values.back()));
+    back.push_back(poisonedTensor(context(), {sizes[i]}));
+  }
+  Tensor whole = Tensor::fromHost(context(), {413}, std::vector<float>(413, -7.0f));
+  Tensor doubled = poisonedTensor(context(), {413});
+  Stream stream(context());
+  stream.gather(parts, offsets, whole);
+  ops::scale(stream, whole, 2.0f, doubled);
+  stream.scatter(doubled, offsets, back);
+  if (!stream.checksFinite()) {
+    EXPECT_EQ(stream.barrierCount(), 2u);  // gather -> scale -> scatter
+  }
+  stream.submit();
+  const std::vector<float> wholeValues = whole.download();
+  for (std::size_t i = 0; i < sizes.size(); ++i) {
+    SCOPED_TRACE("part " + std::to_string(i));
+    std::vector<double> expected(values[i].begin(), values[i].end());
+    EXPECT_TRUE(allClose(std::vector<float>(wholeValues.begin() + offsets[i], wholeValues.begin() + offsets[i] + sizes[i]),
+                         expected, {0, 0}));
+    for (double& v : expected) v *= 2;
+    EXPECT_TRUE(allClose(back[i], expected, {0, 0}));
+  }
+  for (const int64_t gap : {5, 6, 8, 342, 399, 408, 412}) EXPECT_EQ(wholeValues[gap], -7.0f) << gap;
+}
+
+TEST_F(StreamTest, GatherAndScatterRefuseOverlappingOrSharedParts) {
+  Tensor a = randomTensor(context(), {6}, 1);
+  Tensor b = randomTensor(context(), {6}, 2);
+  Tensor whole(context(), {12});
+  Stream stream(context());
+  const std::vector<Tensor> two{a, b};
+  EXPECT_THROW(stream.gather(two, std::vector<int64_t>{0, 5}, whole), Error);   // a ends at 6
+  EXPECT_THROW(stream.gather(two, std::vector<int64_t>{6, 0}, whole), Error);   // not ascending
+  EXPECT_THROW(stream.gather(two, std::vector<int64_t>{0, 7}, whole), Error);   // b ends past 12
+  EXPECT_THROW(stream.gather(two, std::vector<int64_t>{0}, whole), Error);      // one offset for two parts
+  EXPECT_THROW(stream.gather(std::vector<Tensor>{a, whole}, std::vector<int64_t>{0, 6}, whole), Error);
+  EXPECT_THROW(stream.scatter(whole, std::vector<int64_t>{0, 6}, std::vector<Tensor>{a, a}), Error);
+}
+
 TEST_F(StreamTest, TimesRegionsOnTheGpu) {
   if (!context().info().timestamps) GTEST_SKIP() << "device has no timestamps";
   Tensor x = randomTensor(context(), {1 << 20}, 1);

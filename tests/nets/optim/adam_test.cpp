@@ -47,22 +47,28 @@ void PrintTo(const Case& c, std::ostream* out) { *out << c.name; }
 class AdamTest : public GpuTest, public ::testing::WithParamInterface<Case> {};
 
 // One training step is recorded once and submitted ten times with new gradients uploaded in between:
-// parameters and both moments must follow the double reference after every step.
+// parameters and both moments must follow the double reference after every step. A parameter without a
+// gradient between the small ones splits their flat update into two runs; one at the end is a third case.
 TEST_P(AdamTest, TenStepsMatchDoubleReference) {
   const Case& c = GetParam();
-  const std::vector<Shape> shapes = {{7}, {3, 5}, {1}, {2, 3, 3, 3}, {4099}};  // the last spans 3 workgroups
+  // {4099} spans 3 workgroups; {40001} is large enough to be updated on its own, the others together.
+  const std::vector<Shape> shapes = {{7}, {3, 5}, {1}, {40001}, {2, 3, 3, 3}, {4099}};
   NamedParameters parameters;
+  std::vector<std::size_t> slot;  // where shapes[i]'s parameter is in `parameters`
   std::vector<AdamReference> references;
+  std::vector<float> frozenValues, lastFrozenValues;
+  Var frozen = variable(randomTensor(context(), {5}, 99, -1, 1, &frozenValues), true);  // never gets a gradient
   for (std::size_t i = 0; i < shapes.size(); ++i) {
+    if (i == 2) parameters.emplace_back("frozen", frozen);
     std::vector<float> initial;
     Var p = variable(randomTensor(context(), shapes[i], 10 + i, -1, 1, &initial), true);
     p->grad = Tensor(context(), shapes[i]);
+    slot.push_back(parameters.size());
     parameters.emplace_back("p" + std::to_string(i), p);
     references.push_back({toDouble(initial), std::vector<double>(initial.size()), std::vector<double>(initial.size())});
   }
-  std::vector<float> frozenValues;
-  Var frozen = variable(randomTensor(context(), {5}, 99, -1, 1, &frozenValues), true);  // never gets a gradient
-  parameters.emplace_back("frozen", frozen);
+  Var lastFrozen = variable(randomTensor(context(), {3}, 98, -1, 1, &lastFrozenValues), true);
+  parameters.emplace_back("last_frozen", lastFrozen);
 
   Adam adam(context(), parameters, c.options);
   optim::GradClip clip(context(), c.maxNorm > 0 ? c.maxNorm : 1.0);
@@ -77,7 +83,7 @@ TEST_P(AdamTest, TenStepsMatchDoubleReference) {
       const float magnitude = std::pow(10.0f, static_cast<float>(step % 3) - 1.0f);
       grads.push_back(randomValues(static_cast<std::size_t>(numElements(shapes[i])), 100 * step + i, -magnitude,
                                    magnitude));
-      parameters[i].second->grad.upload(grads.back());
+      parameters[slot[i]].second->grad.upload(grads.back());
       for (float g : grads.back()) squares += static_cast<double>(g) * g;
     }
     stream.submit();
@@ -85,16 +91,24 @@ TEST_P(AdamTest, TenStepsMatchDoubleReference) {
     for (std::size_t i = 0; i < shapes.size(); ++i) {
       references[i].step(c.options, grads[i], clipFactor);
       const auto state = adam.namedState();
-      SCOPED_TRACE("step " + std::to_string(step + 1) + ", parameter " + parameters[i].first);
-      EXPECT_TRUE(allClose(parameters[i].second->value, references[i].p, {2e-6, 2e-6}));
+      const std::size_t k = slot[i];
+      SCOPED_TRACE("step " + std::to_string(step + 1) + ", parameter " + parameters[k].first);
+      EXPECT_TRUE(allClose(parameters[k].second->value, references[i].p, {2e-6, 2e-6}));
       // m sums terms of up to |g| = 10 that may cancel: float rounding of those terms bounds its error.
-      EXPECT_TRUE(allClose(state[2 * i].second, references[i].m, {1e-6, 1e-5}));
-      EXPECT_TRUE(allClose(state[2 * i + 1].second, references[i].v, {1e-9, 1e-5}));
+      EXPECT_EQ(state[2 * k].first, parameters[k].first + ".exp_avg");
+      EXPECT_TRUE(allClose(state[2 * k].second, references[i].m, {1e-6, 1e-5}));
+      EXPECT_TRUE(allClose(state[2 * k + 1].second, references[i].v, {1e-9, 1e-5}));
     }
   }
   EXPECT_EQ(adam.steps(), 10);
   EXPECT_NEAR(adam.lastLearningRate(), c.options.schedule.at(9), 1e-7);
   EXPECT_EQ(frozen->value.download(), frozenValues);
+  EXPECT_EQ(lastFrozen->value.download(), lastFrozenValues);
+  const auto state = adam.namedState();
+  for (const std::size_t k : {std::size_t{2}, parameters.size() - 1}) {
+    EXPECT_TRUE(allClose(state[2 * k].second, std::vector<double>(state[2 * k].second.numel(), 0.0), {0, 0}));
+    EXPECT_TRUE(allClose(state[2 * k + 1].second, std::vector<double>(state[2 * k + 1].second.numel(), 0.0), {0, 0}));
+  }
 }
 
 AdamOptions adam(double lr, double weightDecay = 0) {

@@ -16,7 +16,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace optim;
 
-// A toy model (two parameters, initialised from `seed`) trained on fixed gradients, with Adam and an EMA.
+// A toy model (three parameters, initialised from `seed`; the optimiser keeps the two small ones' state in
+// flat tensors and the large one's apart) trained on fixed gradients, with Adam and an EMA.
 struct Trainer {
   NamedParameters parameters;
   std::unique_ptr<Adam> adam;
@@ -24,7 +25,7 @@ struct Trainer {
 
   Trainer(Context& context, AdamOptions options, uint64_t seed) {
     uint64_t gradientSeed = 100;
-    for (const auto& [name, shape] : {std::pair<std::string, Shape>{"layer.weight", {3, 5}}, {"layer.bias", {3}}}) {
+    for (const auto& [name, shape] : {std::pair<std::string, Shape>{"layer.weight", {3, 5}}, {"layer.bias", {3}}, {"big.weight", {3, 11001}}}) {
       Var p = variable(randomTensor(context, shape, seed++), true);
       p->grad = randomTensor(context, shape, gradientSeed++);
       parameters.emplace_back(name, p);
@@ -74,9 +75,11 @@ TEST_F(CheckpointTest, ResumedTrainingEqualsUninterruptedTraining) {
   const io::SafetensorsFile contents = io::readSafetensors(file);
   std::vector<std::string> names;
   for (const auto& tensor : contents.tensors) names.push_back(tensor.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"layer.weight", "layer.bias", "optimizer.layer.weight.exp_avg",
-                                             "optimizer.layer.weight.exp_avg_sq", "optimizer.layer.bias.exp_avg",
-                                             "optimizer.layer.bias.exp_avg_sq", "ema.layer.weight", "ema.layer.bias"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"layer.weight", "layer.bias", "big.weight",
+                                             "optimizer.layer.weight.exp_avg", "optimizer.layer.weight.exp_avg_sq",
+                                             "optimizer.layer.bias.exp_avg", "optimizer.layer.bias.exp_avg_sq",
+                                             "optimizer.big.weight.exp_avg", "optimizer.big.weight.exp_avg_sq",
+                                             "ema.layer.weight", "ema.layer.bias", "ema.big.weight"}));
   EXPECT_EQ(contents.metadata.at("format"), "smokesvd-checkpoint");
 }
 
@@ -92,7 +95,7 @@ TEST_F(CheckpointTest, MismatchesAreRejectedAndNothingIsLoaded) {
     loadCheckpoint(file, other.parameters, *other.adam);  // no EMA to load into
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("2 unexpected: ema.layer.weight, ema.layer.bias"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("3 unexpected: ema.layer.weight, ema.layer.bias, ema.big.weight"), std::string::npos)
         << e.what();
   }
   EXPECT_EQ(other.values(), before);

@@ -1,0 +1,56 @@
+#include "nets/optim/flat_layout.h"
+
+namespace smokesvd::optim {
+
+FlatLayout flatLayout(std::span<const Tensor> tensors) {
+  FlatLayout layout;
+  int64_t next = 0;
+  for (const Tensor& tensor : tensors) {
+    if (tensor.numel() > FlatLayout::kMaxGatheredElements) {
+      layout.offsets.push_back(-1);
+      continue;
+    }
+    layout.offsets.push_back(next);
+    next += (tensor.numel() + 3) / 4 * 4;
+  }
+  layout.total = std::max<int64_t>(next, 4);
+  return layout;
+}
+
+Tensor zeroFlat(Context& context, const FlatLayout& layout) {
+  Tensor flat(context, {layout.total});
+  Stream zero(context);
+  zero.fillZero(flat);
+  zero.submit();
+  return flat;
+}
+
+std::vector<std::pair<std::string, Tensor>> copyState(const Tensor& flat, std::span<const Tensor> alone,
+                                                      const FlatLayout& layout,
+                                                      const std::vector<std::pair<std::string, Tensor>>& like) {
+  std::vector<std::pair<std::string, Tensor>> named;
+  std::vector<Tensor> copies;
+  for (const auto& [name, tensor] : like) {
+    copies.emplace_back(flat.context(), tensor.shape());
+    named.emplace_back(name, copies.back());
+  }
+  Stream copy(flat.context());
+  const FlatParts parts = flatParts(layout, copies, [](std::size_t) { return true; });
+  copy.scatter(flat, parts.offsets, parts.tensors);
+  for (std::size_t i = 0; i < copies.size(); ++i)
+    if (!layout.gathered(i)) copy.copy(alone[i], copies[i]);
+  copy.submit();
+  return named;
+}
+
+void restoreState(std::span<const Tensor> from, const Tensor& flat, std::span<const Tensor> alone,
+                  const FlatLayout& layout) {
+  Stream restore(flat.context());
+  const FlatParts parts = flatParts(layout, from, [](std::size_t) { return true; });
+  restore.gather(parts.tensors, parts.offsets, flat);
+  for (std::size_t i = 0; i < from.size(); ++i)
+    if (!layout.gathered(i)) restore.copy(from[i], alone[i]);
+  restore.submit();
+}
+
+}  // namespace smokesvd::optim

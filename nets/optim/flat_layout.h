@@ -1,0 +1,63 @@
+// Small tensors laid end to end in one flat tensor, each from a multiple of four elements (one vec4 texel)
+// on, the elements between them zero. The optimiser's kernels (Adam, the EMA, the gradient norm) run once
+// over such a tensor instead of once per small parameter tensor: a UNet's 150 parameter tensors, most of
+// them biases and small weights, would otherwise cost 150 dispatches each, and lavapipe pays 15 to 100
+// microseconds per dispatch where a transfer command costs about one (docs/nn-training.md, "One dispatch
+// for the small parameters"). Tensors of more than kMaxGatheredElements elements stay where they are and
+// get a dispatch of their own: copying them in and out would cost more than the dispatch saves.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "runtime/stream.h"
+#include "runtime/tensor.h"
+
+namespace smokesvd::optim {
+
+struct FlatLayout {
+  // 32768 elements: copying a tensor in and out three times at the ~10 GB/s of a lavapipe transfer costs
+  // about as much as the dispatch it saves (docs/nn-training.md).
+  static constexpr int64_t kMaxGatheredElements = 32768;
+
+  std::vector<int64_t> offsets;  // per tensor: the element it starts at in the flat tensor, or -1
+  int64_t total = 4;             // the flat tensor's elements: a multiple of 4, at least 4
+
+  bool gathered(std::size_t i) const { return offsets[i] >= 0; }
+};
+
+FlatLayout flatLayout(std::span<const Tensor> tensors);
+
+// A flat tensor of the layout, all zero (recorded and run on a stream of its own).
+Tensor zeroFlat(Context& context, const FlatLayout& layout);
+
+// The gathered tensors of `tensors` (laid out by `layout`) for which keep(i) holds, with their offsets:
+// the arguments of Stream::gather and Stream::scatter.
+struct FlatParts {
+  std::vector<Tensor> tensors;
+  std::vector<int64_t> offsets;
+};
+template <typename Keep>
+FlatParts flatParts(const FlatLayout& layout, std::span<const Tensor> tensors, Keep keep) {
+  FlatParts parts;
+  for (std::size_t i = 0; i < tensors.size(); ++i) {
+    if (!layout.gathered(i) || !keep(i)) continue;
+    parts.tensors.push_back(tensors[i]);
+    parts.offsets.push_back(layout.offsets[i]);
+  }
+  return parts;
+}
+
+// Named copies of state kept per tensor: the gathered tensors' ranges of `flat`, and copies of `alone[i]`
+// for the others; names and shapes from `like` (in the layout's order).
+std::vector<std::pair<std::string, Tensor>> copyState(const Tensor& flat, std::span<const Tensor> alone,
+                                                      const FlatLayout& layout,
+                                                      const std::vector<std::pair<std::string, Tensor>>& like);
+// The reverse: sets `flat` and `alone` from tensors such as copyState gives.
+void restoreState(std::span<const Tensor> from, const Tensor& flat, std::span<const Tensor> alone,
+                  const FlatLayout& layout);
+
+}  // namespace smokesvd::optim
