@@ -22,7 +22,7 @@ void Ema::update(Stream& stream) const {
     struct { uint32_t n; float decay; } push{static_cast<uint32_t>(n), static_cast<float>(decay_)};
     stream.dispatchFlat(kernel, {asVec4(shadow), asVec4(value), shadow}, push, (n + 3) / 4);
   };
-  const FlatParts parts = flatParts(layout_, values_, [](std::size_t) { return true; });
+  const FlatParts parts = flatParts(layout_, values_);
   stream.gather(parts.tensors, parts.offsets, gathered_);
   if (!parts.tensors.empty()) record(shadows_, gathered_, layout_.total);
   for (std::size_t i = 0; i < values_.size(); ++i)
@@ -30,7 +30,7 @@ void Ema::update(Stream& stream) const {
 }
 
 void Ema::copyToParameters(Stream& stream) const {
-  const FlatParts parts = flatParts(layout_, values_, [](std::size_t) { return true; });
+  const FlatParts parts = flatParts(layout_, values_);
   stream.scatter(shadows_, parts.offsets, parts.tensors);
   for (std::size_t i = 0; i < values_.size(); ++i)
     if (!layout_.gathered(i)) stream.copy(aloneShadows_[i], values_[i]);

@@ -35,7 +35,7 @@ std::vector<std::pair<std::string, Tensor>> copyState(const Tensor& flat, std::s
     named.emplace_back(name, copies.back());
   }
   Stream copy(flat.context());
-  const FlatParts parts = flatParts(layout, copies, [](std::size_t) { return true; });
+  const FlatParts parts = flatParts(layout, copies);
   copy.scatter(flat, parts.offsets, parts.tensors);
   for (std::size_t i = 0; i < copies.size(); ++i)
     if (!layout.gathered(i)) copy.copy(alone[i], copies[i]);
@@ -46,7 +46,7 @@ std::vector<std::pair<std::string, Tensor>> copyState(const Tensor& flat, std::s
 void restoreState(std::span<const Tensor> from, const Tensor& flat, std::span<const Tensor> alone,
                   const FlatLayout& layout) {
   Stream restore(flat.context());
-  const FlatParts parts = flatParts(layout, from, [](std::size_t) { return true; });
+  const FlatParts parts = flatParts(layout, from);
   restore.gather(parts.tensors, parts.offsets, flat);
   for (std::size_t i = 0; i < from.size(); ++i)
     if (!layout.gathered(i)) restore.copy(from[i], alone[i]);

@@ -50,6 +50,9 @@ FlatParts flatParts(const FlatLayout& layout, std::span<const Tensor> tensors, K
   }
   return parts;
 }
+inline FlatParts flatParts(const FlatLayout& layout, std::span<const Tensor> tensors) {
+  return flatParts(layout, tensors, [](std::size_t) { return true; });
+}
 
 // Named copies of state kept per tensor: the gathered tensors' ranges of `flat`, and copies of `alone[i]`
 // for the others; names and shapes from `like` (in the layout's order).

@@ -35,7 +35,7 @@ void GradClip::record(Stream& stream, const NamedParameters& parameters) const {
   // The small gradients end to end in one flat tensor (flat_layout.h), zero between them, summed in one
   // pass; each large one in a pass of its own. Every pass writes its own range of partial sums.
   const FlatLayout layout = flatLayout(gradients);
-  const FlatParts small = flatParts(layout, gradients, [](std::size_t) { return true; });
+  const FlatParts small = flatParts(layout, gradients);
   const uint32_t workgroup = reduceWorkgroup(stream.context());
   std::vector<std::pair<Tensor, int64_t>> passes;  // tensor, elements
   if (!small.tensors.empty()) {
