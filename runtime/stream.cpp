@@ -119,6 +119,7 @@ void Stream::hold(Buffer& buffer, bool reads, bool writes) {
 }
 
 void Stream::access(const Buffer& buffer, bool reads, bool writes) {
+  if (writes) ++writesRecorded_[&buffer];
   const VkBuffer handle = buffer.handle();
   const bool readAfterWrite = reads && writtenSinceBarrier_.count(handle);
   const bool writeAfterAccess = writes && (writtenSinceBarrier_.count(handle) || readSinceBarrier_.count(handle));
@@ -342,6 +343,20 @@ void Stream::fillZero(const Tensor& tensor) {
   writtenSinceBarrier_.insert(tensor.buffer().handle());
 }
 
+Tensor Stream::derived(const Tensor& source, const std::string& key) const {
+  const auto kept = derived_.find({&source.buffer(), key});
+  if (kept == derived_.end()) return {};
+  const auto writes = writesRecorded_.find(&source.buffer());
+  const uint64_t now = writes == writesRecorded_.end() ? 0 : writes->second;
+  return now == kept->second.writesBefore ? kept->second.tensor : Tensor{};
+}
+
+void Stream::keepDerived(const Tensor& source, const std::string& key, const Tensor& derived) {
+  const auto writes = writesRecorded_.find(&source.buffer());
+  derived_[{&source.buffer(), key}] =
+      Derived{source.sharedBuffer(), writes == writesRecorded_.end() ? 0 : writes->second, derived};
+}
+
 void Stream::beginRegion(std::string name) {
   if (!queries_) return;
   begin();
@@ -398,6 +413,8 @@ void Stream::reset() {
   barriers_ = 0;
   readSinceBarrier_.clear();
   writtenSinceBarrier_.clear();
+  writesRecorded_.clear();
+  derived_.clear();
   memory_.clear();
   if (check_) check_->clear();
   regions_.clear();

@@ -17,9 +17,11 @@
 #include <array>
 #include <cstdint>
 #include <initializer_list>
+#include <map>
 #include <memory>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -110,6 +112,13 @@ class Stream {
   void gather(std::span<const Tensor> parts, std::span<const int64_t> offsets, const Tensor& whole);
   void scatter(const Tensor& whole, std::span<const int64_t> offsets, std::span<const Tensor> parts);
 
+  // Tensors derived from another by recorded commands (a convolution's packed weights), kept for the later
+  // commands of the same recording: derived(source, key) is the tensor kept under `key` for `source` if no
+  // command recorded since has written `source`, else undefined. Kept tensors (and their sources) stay
+  // alive until reset(). The same frozen network run several times in one recording packs its weights once.
+  Tensor derived(const Tensor& source, const std::string& key) const;
+  void keepDerived(const Tensor& source, const std::string& key, const Tensor& derived);
+
   // Named GPU-timed regions; they may nest. Times are available after submit().
   void beginRegion(std::string name);
   void endRegion();
@@ -154,6 +163,13 @@ class Stream {
   uint32_t barriers_ = 0;
   std::unordered_set<VkBuffer> readSinceBarrier_;
   std::unordered_set<VkBuffer> writtenSinceBarrier_;
+  std::unordered_map<const Buffer*, uint64_t> writesRecorded_;  // per buffer, for derived tensors
+  struct Derived {
+    std::shared_ptr<Buffer> source;  // held, so that no other buffer takes its address
+    uint64_t writesBefore = 0;       // writesRecorded_ of the source when it was kept
+    Tensor tensor;
+  };
+  std::map<std::pair<const Buffer*, std::string>, Derived> derived_;
   RecordingMemory memory_;
   std::unique_ptr<FiniteCheck> check_;
   struct Region {

@@ -116,17 +116,24 @@ Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size) 
 Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int64_t paddedK) {
   const int64_t tapCount = p.taps[0] * p.taps[1] * p.taps[2];
   const int64_t vec4s = p.inChannels * tapCount * paddedK / 4;
-  Tensor packed(stream.context(), {std::max<int64_t>(vec4s, 1) * 4});
   struct {
     int32_t taps[4], first[4], step[4], strides[4];
   } push{{i32(p.taps[0]), i32(p.taps[1]), i32(p.taps[2]), 0},
          {i32(p.firstTap[0]), i32(p.firstTap[1]), i32(p.firstTap[2]), i32(p.outChannels)},
          {i32(p.tapStep[0]), i32(p.tapStep[1]), i32(p.tapStep[2]), i32(paddedK / 4)},
          {i32(p.strideK), i32(p.strideC), i32(p.sourceKernel[1] * p.sourceKernel[2]), i32(p.sourceKernel[2])}};
+  // The same weights packed the same way earlier in the recording and not written since: that packing.
+  std::string key = "conv_pack_weights";
+  for (const auto& row : {push.taps, push.first, push.step, push.strides})
+    for (int i = 0; i < 4; ++i) key.append(" ").append(std::to_string(row[i]));
+  key.append(" ").append(std::to_string(p.inChannels));
+  if (const Tensor kept = stream.derived(w, key); kept.defined()) return kept;
+  Tensor packed(stream.context(), {std::max<int64_t>(vec4s, 1) * 4});
   if (vec4s > 0)
     stream.dispatch(stream.kernel("nn/conv_pack_weights", kGridWorkgroup), {w, packed}, push,
                     {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(tapCount),
                      static_cast<uint32_t>(p.inChannels)});
+  stream.keepDerived(w, key, packed);
   return packed;
 }
 

@@ -130,6 +130,26 @@ TEST_F(StreamTest, GatherAndScatterRefuseOverlappingOrSharedParts) {
   EXPECT_THROW(stream.scatter(whole, std::vector<int64_t>{0, 6}, std::vector<Tensor>{a, a}), Error);
 }
 
+TEST_F(StreamTest, DerivedTensorsAreKeptUntilTheirSourceIsWritten) {
+  Tensor source = randomTensor(context(), {8}, 1);
+  Tensor other = randomTensor(context(), {8}, 2);
+  Tensor kept(context(), {8});
+  Stream stream(context());
+  ops::scale(stream, source, 2.0f, kept);
+  stream.keepDerived(source, "doubled", kept);
+  EXPECT_EQ(&stream.derived(source, "doubled").buffer(), &kept.buffer());
+  EXPECT_FALSE(stream.derived(source, "tripled").defined());
+  EXPECT_FALSE(stream.derived(other, "doubled").defined());
+  ops::scale(stream, source, 2.0f, other);  // reads the source: still kept
+  EXPECT_TRUE(stream.derived(source, "doubled").defined());
+  stream.copy(other, source);               // writes it: gone
+  EXPECT_FALSE(stream.derived(source, "doubled").defined());
+  stream.keepDerived(source, "doubled", kept);
+  stream.submit();
+  stream.reset();
+  EXPECT_FALSE(stream.derived(source, "doubled").defined());
+}
+
 TEST_F(StreamTest, TimesRegionsOnTheGpu) {
   if (!context().info().timestamps) GTEST_SKIP() << "device has no timestamps";
   Tensor x = randomTensor(context(), {1 << 20}, 1);

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "nets/ops/conv.h"
+#include "nets/ops/elementwise.h"
 #include "runtime/error.h"
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
@@ -239,6 +240,36 @@ TEST_F(ConvTest, PointwiseBackwardLargerShapesWithTails) {
   checkLargeBackward(Case{{2, 22, 5, 6, 12}, {19, 22, 1, 1, 1}, {1, 0}});
   checkLargeBackward(Case{{1, 6, 14, 18, 20}, {7, 6, 1, 1, 1}, {1, 0}});
   checkLargeBackward(Case{{2, 9, 36, 40}, {2, 9, 1, 1}, {1, 0}});
+}
+
+// A recording packs a weight once for the convolutions that use it unchanged, and again after a command
+// has written it: three convolutions of one input, the weight doubled in place after the second. The first
+// two give the reference's output with one packing between them; the third, twice that.
+TEST_F(ConvTest, PackedWeightsAreReusedUntilTheWeightIsWritten) {
+  const Shape xShape{1, 3, 7, 9, 5}, wShape{5, 3, 3, 3, 3};
+  std::vector<float> xValues, wValues;
+  const Tensor x = randomTensor(context(), xShape, 41, -1, 1, &xValues);
+  const Tensor w = randomTensor(context(), wShape, 42, -1, 1, &wValues);
+  const ops::ConvParams params{1, 1};
+  const Shape yShape = ops::convOutputShape(xShape, wShape, params);
+  std::vector<Tensor> ys;
+  for (int i = 0; i < 3; ++i) ys.push_back(poisonedTensor(context(), yShape));
+  Stream stream(context());
+  ops::convForward(stream, x, w, nullptr, params, ys[0]);
+  const uint32_t first = stream.dispatchCount();
+  ops::convForward(stream, x, w, nullptr, params, ys[1]);
+  const uint32_t second = stream.dispatchCount() - first;
+  ops::scale(stream, w, 2.0f, w);
+  const uint32_t beforeThird = stream.dispatchCount();
+  ops::convForward(stream, x, w, nullptr, params, ys[2]);
+  EXPECT_EQ(second + 1, first);                                  // no packing the second time
+  EXPECT_EQ(stream.dispatchCount() - beforeThird, first);        // packed again after the write
+  stream.submit();
+  std::vector<double> expected = convReference(toDouble(xValues), xShape, toDouble(wValues), wShape, {}, ConvSpec{1, 1});
+  EXPECT_TRUE(allClose(ys[0], expected, {1e-5, 1e-5}));
+  EXPECT_TRUE(allClose(ys[1], expected, {1e-5, 1e-5}));
+  for (double& v : expected) v *= 2;
+  EXPECT_TRUE(allClose(ys[2], expected, {1e-5, 1e-5}));
 }
 
 TEST_F(ConvTest, RejectsMismatchedShapes) {
