@@ -47,21 +47,10 @@ Adam::Adam(Context& context, NamedParameters parameters, AdamOptions options)
     values_.push_back(parameter->value);
   }
   layout_ = flatLayout(values_);
-  expAvg_ = zeroFlat(context, layout_);
-  expAvgSq_ = zeroFlat(context, layout_);
+  expAvg_ = zeroState(context, layout_, values_);
+  expAvgSq_ = zeroState(context, layout_, values_);
   gatheredValues_ = zeroFlat(context, layout_);
   gatheredGradients_ = zeroFlat(context, layout_);
-  Stream zero(context);
-  for (std::size_t i = 0; i < values_.size(); ++i) {
-    aloneExpAvg_.emplace_back();
-    aloneExpAvgSq_.emplace_back();
-    if (layout_.gathered(i)) continue;
-    aloneExpAvg_.back() = Tensor(context, values_[i].shape());
-    aloneExpAvgSq_.back() = Tensor(context, values_[i].shape());
-    zero.fillZero(aloneExpAvg_.back());
-    zero.fillZero(aloneExpAvgSq_.back());
-  }
-  zero.submit();
   setSteps(0);
 }
 
@@ -116,17 +105,17 @@ void Adam::step(Stream& stream, const GradClip* clip) const {
   for (std::size_t i = 0; i < values_.size(); ++i) {
     if (!layout_.gathered(i)) continue;
     if (!hasGradient(i)) {
-      if (runFirst >= 0) record(gatheredValues_, gatheredGradients_, expAvg_, expAvgSq_, runFirst, runEnd);
+      if (runFirst >= 0) record(gatheredValues_, gatheredGradients_, expAvg_.flat, expAvgSq_.flat, runFirst, runEnd);
       runFirst = -1;
       continue;
     }
     if (runFirst < 0) runFirst = layout_.offsets[i];
     runEnd = layout_.offsets[i] + values_[i].numel();
   }
-  if (runFirst >= 0) record(gatheredValues_, gatheredGradients_, expAvg_, expAvgSq_, runFirst, runEnd);
+  if (runFirst >= 0) record(gatheredValues_, gatheredGradients_, expAvg_.flat, expAvgSq_.flat, runFirst, runEnd);
   for (std::size_t i = 0; i < values_.size(); ++i)
     if (!layout_.gathered(i) && hasGradient(i))
-      record(values_[i], gradients[i], aloneExpAvg_[i], aloneExpAvgSq_[i], 0, values_[i].numel());
+      record(values_[i], gradients[i], expAvg_.alone[i], expAvgSq_.alone[i], 0, values_[i].numel());
   stream.scatter(gatheredValues_, values.offsets, values.tensors);
 }
 
@@ -145,9 +134,9 @@ float Adam::lastLearningRate() const { return scalars_.download()[1]; }
 std::vector<std::pair<std::string, Tensor>> Adam::namedState() const {
   std::vector<std::pair<std::string, Tensor>> like;
   for (const auto& [name, parameter] : parameters_) like.emplace_back(name + ".exp_avg", parameter->value);
-  const std::vector<std::pair<std::string, Tensor>> first = copyState(expAvg_, aloneExpAvg_, layout_, like);
+  const std::vector<std::pair<std::string, Tensor>> first = copyState(expAvg_, layout_, like);
   for (auto& [name, tensor] : like) name += "_sq";
-  const std::vector<std::pair<std::string, Tensor>> second = copyState(expAvgSq_, aloneExpAvgSq_, layout_, like);
+  const std::vector<std::pair<std::string, Tensor>> second = copyState(expAvgSq_, layout_, like);
   std::vector<std::pair<std::string, Tensor>> state;
   for (std::size_t i = 0; i < parameters_.size(); ++i) {
     state.push_back(first[i]);
@@ -171,8 +160,8 @@ void Adam::restoreState(const std::vector<std::pair<std::string, Tensor>>& state
     first.push_back(m);
     second.push_back(v);
   }
-  optim::restoreState(first, expAvg_, aloneExpAvg_, layout_);
-  optim::restoreState(second, expAvgSq_, aloneExpAvgSq_, layout_);
+  optim::restoreState(first, expAvg_, layout_);
+  optim::restoreState(second, expAvgSq_, layout_);
 }
 
 }  // namespace smokesvd::optim

@@ -76,9 +76,8 @@ class Adam {
   NamedParameters parameters_;
   std::vector<Tensor> values_;  // the parameters' values, in order
   FlatLayout layout_;
-  Tensor expAvg_, expAvgSq_;                         // the gathered parameters' moments, flat
-  std::vector<Tensor> aloneExpAvg_, aloneExpAvgSq_;  // the other parameters' moments (empty for gathered ones)
-  Tensor gatheredValues_, gatheredGradients_;        // what each step gathers, updates and scatters back
+  FlatState expAvg_, expAvgSq_;
+  Tensor gatheredValues_, gatheredGradients_;  // what each step gathers, updates and scatters back
   Tensor scalars_;
   Tensor noClip_;  // [0, 1]: the factor 1 when there is no clipping
 };

@@ -9,11 +9,9 @@ Ema::Ema(Context& context, NamedParameters parameters, double decay)
   if (!(decay >= 0 && decay <= 1)) throw Error("EMA: decay must be in [0, 1], got " + std::to_string(decay));
   for (const auto& [name, parameter] : parameters_) values_.push_back(parameter->value);
   layout_ = flatLayout(values_);
-  shadows_ = zeroFlat(context, layout_);
+  shadows_ = zeroState(context, layout_, values_);
   gathered_ = zeroFlat(context, layout_);
-  for (std::size_t i = 0; i < values_.size(); ++i)
-    aloneShadows_.push_back(layout_.gathered(i) ? Tensor() : Tensor(context, values_[i].shape()));
-  optim::restoreState(values_, shadows_, aloneShadows_, layout_);
+  optim::restoreState(values_, shadows_, layout_);
 }
 
 void Ema::update(Stream& stream) const {
@@ -24,22 +22,22 @@ void Ema::update(Stream& stream) const {
   };
   const FlatParts parts = flatParts(layout_, values_);
   stream.gather(parts.tensors, parts.offsets, gathered_);
-  if (!parts.tensors.empty()) record(shadows_, gathered_, layout_.total);
+  if (!parts.tensors.empty()) record(shadows_.flat, gathered_, layout_.total);
   for (std::size_t i = 0; i < values_.size(); ++i)
-    if (!layout_.gathered(i)) record(aloneShadows_[i], values_[i], values_[i].numel());
+    if (!layout_.gathered(i)) record(shadows_.alone[i], values_[i], values_[i].numel());
 }
 
 void Ema::copyToParameters(Stream& stream) const {
   const FlatParts parts = flatParts(layout_, values_);
-  stream.scatter(shadows_, parts.offsets, parts.tensors);
+  stream.scatter(shadows_.flat, parts.offsets, parts.tensors);
   for (std::size_t i = 0; i < values_.size(); ++i)
-    if (!layout_.gathered(i)) stream.copy(aloneShadows_[i], values_[i]);
+    if (!layout_.gathered(i)) stream.copy(shadows_.alone[i], values_[i]);
 }
 
 std::vector<std::pair<std::string, Tensor>> Ema::namedShadows() const {
   std::vector<std::pair<std::string, Tensor>> like;
   for (const auto& [name, parameter] : parameters_) like.emplace_back(name, parameter->value);
-  return copyState(shadows_, aloneShadows_, layout_, like);
+  return copyState(shadows_, layout_, like);
 }
 
 void Ema::restoreShadows(const std::vector<std::pair<std::string, Tensor>>& shadows) {
@@ -54,7 +52,7 @@ void Ema::restoreShadows(const std::vector<std::pair<std::string, Tensor>>& shad
                   ", expected '" + parameters_[i].first + "' " + toString(values_[i].shape()));
     from.push_back(shadow);
   }
-  optim::restoreState(from, shadows_, aloneShadows_, layout_);
+  optim::restoreState(from, shadows_, layout_);
 }
 
 }  // namespace smokesvd::optim

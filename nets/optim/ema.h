@@ -32,11 +32,10 @@ class Ema {
 
  private:
   NamedParameters parameters_;
-  std::vector<Tensor> values_;        // the parameters' values, in order
+  std::vector<Tensor> values_;  // the parameters' values, in order
   FlatLayout layout_;
-  Tensor shadows_;                    // the gathered parameters' shadows, flat
-  std::vector<Tensor> aloneShadows_;  // the other parameters' shadows (empty for gathered ones)
-  Tensor gathered_;                   // the parameters each update gathers
+  FlatState shadows_;
+  Tensor gathered_;  // the parameters each update gathers
   double decay_;
 };
 

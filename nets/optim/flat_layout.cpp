@@ -25,9 +25,22 @@ Tensor zeroFlat(Context& context, const FlatLayout& layout) {
   return flat;
 }
 
-std::vector<std::pair<std::string, Tensor>> copyState(const Tensor& flat, std::span<const Tensor> alone,
-                                                      const FlatLayout& layout,
+FlatState zeroState(Context& context, const FlatLayout& layout, std::span<const Tensor> tensors) {
+  FlatState state{zeroFlat(context, layout), {}};
+  Stream zero(context);
+  for (std::size_t i = 0; i < tensors.size(); ++i) {
+    state.alone.emplace_back();
+    if (layout.gathered(i)) continue;
+    state.alone.back() = Tensor(context, tensors[i].shape());
+    zero.fillZero(state.alone.back());
+  }
+  zero.submit();
+  return state;
+}
+
+std::vector<std::pair<std::string, Tensor>> copyState(const FlatState& state, const FlatLayout& layout,
                                                       const std::vector<std::pair<std::string, Tensor>>& like) {
+  const Tensor& flat = state.flat;
   std::vector<std::pair<std::string, Tensor>> named;
   std::vector<Tensor> copies;
   for (const auto& [name, tensor] : like) {
@@ -38,18 +51,17 @@ std::vector<std::pair<std::string, Tensor>> copyState(const Tensor& flat, std::s
   const FlatParts parts = flatParts(layout, copies);
   copy.scatter(flat, parts.offsets, parts.tensors);
   for (std::size_t i = 0; i < copies.size(); ++i)
-    if (!layout.gathered(i)) copy.copy(alone[i], copies[i]);
+    if (!layout.gathered(i)) copy.copy(state.alone[i], copies[i]);
   copy.submit();
   return named;
 }
 
-void restoreState(std::span<const Tensor> from, const Tensor& flat, std::span<const Tensor> alone,
-                  const FlatLayout& layout) {
-  Stream restore(flat.context());
+void restoreState(std::span<const Tensor> from, const FlatState& state, const FlatLayout& layout) {
+  Stream restore(state.flat.context());
   const FlatParts parts = flatParts(layout, from);
-  restore.gather(parts.tensors, parts.offsets, flat);
+  restore.gather(parts.tensors, parts.offsets, state.flat);
   for (std::size_t i = 0; i < from.size(); ++i)
-    if (!layout.gathered(i)) restore.copy(from[i], alone[i]);
+    if (!layout.gathered(i)) restore.copy(from[i], state.alone[i]);
   restore.submit();
 }
 

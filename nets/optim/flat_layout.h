@@ -54,13 +54,19 @@ inline FlatParts flatParts(const FlatLayout& layout, std::span<const Tensor> ten
   return flatParts(layout, tensors, [](std::size_t) { return true; });
 }
 
-// Named copies of state kept per tensor: the gathered tensors' ranges of `flat`, and copies of `alone[i]`
-// for the others; names and shapes from `like` (in the layout's order).
-std::vector<std::pair<std::string, Tensor>> copyState(const Tensor& flat, std::span<const Tensor> alone,
-                                                      const FlatLayout& layout,
+// State kept per tensor (Adam's moments, the EMA's shadows): the gathered tensors' in one flat tensor of the
+// layout, each other tensor's in a tensor of its own.
+struct FlatState {
+  Tensor flat;
+  std::vector<Tensor> alone;  // per tensor of the layout; undefined for the gathered ones
+};
+
+// All zero, shaped like `tensors` (laid out by `layout`).
+FlatState zeroState(Context& context, const FlatLayout& layout, std::span<const Tensor> tensors);
+// Named copies of the state per tensor; names and shapes from `like` (in the layout's order).
+std::vector<std::pair<std::string, Tensor>> copyState(const FlatState& state, const FlatLayout& layout,
                                                       const std::vector<std::pair<std::string, Tensor>>& like);
-// The reverse: sets `flat` and `alone` from tensors such as copyState gives.
-void restoreState(std::span<const Tensor> from, const Tensor& flat, std::span<const Tensor> alone,
-                  const FlatLayout& layout);
+// The reverse: sets `state` from tensors such as copyState gives (in the layout's order).
+void restoreState(std::span<const Tensor> from, const FlatState& state, const FlatLayout& layout);
 
 }  // namespace smokesvd::optim

@@ -11,8 +11,8 @@
 // computes them (1 - float(0.999) would be off by 1.3e-5 relative). p, m and v are read through texel
 // views and written in place through storage views of the same buffers (each invocation reads its items
 // before writing them).
-// The tensors are flat (nets/optim/flat_layout.h: every parameter of a model end to end); one dispatch
-// updates the vec4 items from first_vec4 on while 4 item < end.
+// The tensors are either one large parameter and its state, or the small parameters gathered end to end
+// (nets/optim/flat_layout.h); one dispatch updates the vec4 items from first_vec4 on while 4 item < end.
 // Index: workgroup w (flat), lane l, k < ITEMS: vec4 item = first_vec4 + (w ITEMS + k) local_size_x + l,
 // so the lanes of a workgroup stay on adjacent texels.
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;

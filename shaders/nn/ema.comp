@@ -1,7 +1,7 @@
 #version 450
 // Exponential moving average of weights, in place (torch's lerp, as swa_utils' EMA averaging):
 //   shadow[i] = shadow[i] + (1 - decay) (param[i] - shadow[i])
-// over every parameter of a model at once (flat tensors, nets/optim/flat_layout.h).
+// over one large parameter, or the small parameters gathered end to end (nets/optim/flat_layout.h).
 #extension GL_GOOGLE_include_directive : require
 #include "index.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
