@@ -18,9 +18,8 @@ constexpr std::array<uint32_t, 3> kRowWorkgroup{16, 1, 1};
 constexpr uint32_t kDirectWorkgroup = 32;      // lanes along flattened output rows
 constexpr uint32_t kWeightGradWorkgroup = 16;  // lanes along (input channel, kz)
 // The weight gradient splits its reduction over output rows into chunks until about this many
-// invocations run; the bias gradient sums chunks of this many positions per invocation.
+// invocations run; on a GPU the bias gradient splits its planes the same way.
 constexpr int64_t kWeightGradInvocations = 2048;
-constexpr int64_t kBiasChunk = 2048;
 constexpr uint32_t kPointwiseWorkgroup = 32;  // lanes along position blocks or segments
 // The pointwise weight gradient splits positions into chunks of at least this many vec4s per lane until
 // about kWeightGradInvocations invocations run.
@@ -285,17 +284,31 @@ void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const
 }
 
 void biasGrad(Stream& stream, const Tensor& g, const Tensor& db) {
-  const int64_t channels = g.size(1);
-  const int64_t plane = g.numel() / (g.size(0) * channels);
-  const int64_t positions = g.size(0) * plane;
-  const int64_t chunks = (positions + kBiasChunk - 1) / kBiasChunk;
-  const Tensor partial = chunks == 1 ? db : Tensor(stream.context(), {chunks * channels});
+  const DeviceInfo& device = stream.context().info();
+  const int64_t batch = g.size(0), channels = g.size(1);
+  const int64_t plane = g.numel() / (batch * channels);
+  const bool vec4s = plane % 4 == 0;
+  const int64_t planeUnits = vec4s ? plane / 4 : plane;
+  const uint32_t workgroup = device.reductionWorkgroup();
+  const int64_t subgroups = std::max<int64_t>(workgroup / std::max(device.subgroupSize, 1u), 1);
+  // A workgroup per channel; more chunks only where a lane would loop past the budget or, on a GPU, to
+  // reach about kWeightGradInvocations lanes (a CPU device runs a channel per core just as fast).
+  const int64_t budgetUnits = static_cast<int64_t>(kLoopIterationBudget) / batch * workgroup;
+  const int64_t wantedChunks = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU
+                                   ? 1
+                                   : std::max<int64_t>(kWeightGradInvocations / (channels * workgroup), 1);
+  const int64_t wanted = (planeUnits + wantedChunks - 1) / wantedChunks;
+  const int64_t chunkUnits = roundUp(std::max<int64_t>(std::min(budgetUnits, wanted), 1), workgroup);
+  const int64_t chunks = (planeUnits + chunkUnits - 1) / chunkUnits;
+  const int64_t slots = chunks * subgroups;
+  const Tensor partial = slots == 1 ? db : Tensor(stream.context(), {slots * channels});
   struct {
-    int32_t channels, plane, positions, chunkSize, count;
-  } push{i32(channels), i32(plane), i32(positions), i32(kBiasChunk), i32(chunks * channels)};
-  stream.dispatchFlat(stream.kernel("nn/conv_bias_grad", kFlatWorkgroup), {g, partial}, push,
-                      static_cast<uint64_t>(push.count));
-  if (chunks > 1) sumPartials(stream, partial, chunks, db);
+    int32_t channels, batch, planeUnits, chunkUnits;
+  } push{i32(channels), i32(batch), i32(planeUnits), i32(chunkUnits)};
+  const Kernel& kernel = stream.kernel("nn/conv_bias_grad", {workgroup, 1, 1}, {vec4s ? 1 : 0});
+  stream.dispatch(kernel, {g, vec4s ? asVec4(g) : Arg(g), partial}, push,
+                  {static_cast<uint32_t>(chunks), static_cast<uint32_t>(channels), 1});
+  if (slots > 1) sumPartials(stream, partial, slots, db);
 }
 
 }  // namespace smokesvd::ops::conv

@@ -80,7 +80,8 @@ void pointwise(Stream& stream, const Tensor& x, const Tensor& packedWeights, con
 // dw [K, C] (any shape of K*C elements) = sum over n, p of g[n, k, p] x[n, c, p] for x [N, C, P], g [N, K, P].
 void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const Tensor& dw);
 
-// db [K] = sum of g [N, K, P] over n and p (two-stage reduction).
+// db [K] = sum of g [N, K, P] over n and p: one pass, a workgroup per channel, where a lane's share fits
+// the loop budget on a CPU device; chunks of the plane and a second pass adding them otherwise.
 void biasGrad(Stream& stream, const Tensor& g, const Tensor& db);
 
 }  // namespace smokesvd::ops::conv

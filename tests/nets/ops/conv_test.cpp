@@ -242,6 +242,26 @@ TEST_F(ConvTest, PointwiseBackwardLargerShapesWithTails) {
   checkLargeBackward(Case{{2, 9, 36, 40}, {2, 9, 1, 1}, {1, 0}});
 }
 
+// The bias gradient against a sum in double, on planes with and without a multiple of 4 positions, and on
+// planes long enough that a lane's share passes the loop budget, so that the plane is split into chunks.
+TEST_F(ConvTest, BiasGradientOnShortAndLongPlanes) {
+  for (const Shape& shape : {Shape{3, 5, 1, 7}, Shape{2, 3, 4, 6}, Shape{1, 2, 1, 600001}, Shape{2, 3, 1, 1, 600000}}) {
+    const Operand dy = operand(context(), shape, 12);
+    const int64_t batch = shape[0], channels = shape[1];
+    const int64_t plane = static_cast<int64_t>(dy.values.size()) / (batch * channels);
+    std::vector<double> expected(static_cast<std::size_t>(channels), 0.0);
+    for (int64_t n = 0; n < batch; ++n)
+      for (int64_t k = 0; k < channels; ++k)
+        for (int64_t p = 0; p < plane; ++p) expected[k] += dy.values[static_cast<std::size_t>((n * channels + k) * plane + p)];
+    Tensor db = poisonedTensor(context(), {channels});
+    Stream stream(context());
+    ops::convBackwardBias(stream, dy.tensor, db);
+    stream.submit();
+    // float sums of up to 1.2 million values in [-1, 1]: rounding of order 1e-3 in the long ones
+    EXPECT_TRUE(allClose(db, expected, {plane > 1000 ? 2e-2 : 1e-4, 1e-4})) << "dy " << toString(shape);
+  }
+}
+
 // A recording packs a weight once for the convolutions that use it unchanged, and again after a command
 // has written it: three convolutions of one input, the weight doubled in place after the second. The first
 // two give the reference's output with one packing between them; the third, twice that.
