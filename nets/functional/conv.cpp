@@ -13,7 +13,8 @@ void requireRank(const char* op, const Var& x, int rank) {
     throw Error(std::string(op) + ": input " + toString(x->value.shape()) + " must be " + std::to_string(rank) + "D");
 }
 
-// y = conv(x, w) + b, or the transposed convolution; the backward of each is made of the other's kernels.
+// y = conv(f(x), w) + b (f the leaky ReLU of params.inputSlope, none at 1), or the transposed convolution; the
+// backward of each is made of the other's kernels.
 Var convolution(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params,
                 bool transposed) {
   const Shape yShape = transposed ? ops::convTransposeOutputShape(x->value.shape(), w->value.shape(), params)
@@ -33,7 +34,7 @@ Var convolution(Tape& tape, const Var& x, const Var& w, const Var& bias, const o
       if (transposed)
         ops::convTransposeBackwardInput(t.stream(), g, w->value, params, dx);
       else
-        ops::convBackwardInput(t.stream(), g, w->value, params, dx);
+        ops::convBackwardActivatedInput(t.stream(), g, w->value, x->value, params, dx);
       t.accumulate(x, dx);
     }
     if (w->requiresGrad) {
@@ -82,13 +83,19 @@ using ConvFunction = Var (*)(Tape&, const Var&, const Var&, const Var&, const op
 OpSpec convSpec(std::string name, std::string summary, ConvFunction function, bool transposed) {
   std::vector<AttrSpec> attrs{{"stride", "1", "the same along every axis"},
                               {"padding", "0", "zero padding, the same along every axis"}};
-  if (transposed) attrs.push_back({"output_padding", "0", "extra output rows at the high end, below the stride"});
+  if (transposed)
+    attrs.push_back({"output_padding", "0", "extra output rows at the high end, below the stride"});
+  else
+    attrs.push_back({"input_slope", "1", "x is read through leaky ReLU with this negative slope (1: as it is)"});
   return {std::move(name), std::move(summary), {"x", "w"}, {"b"}, std::move(attrs), {"y"},
           [function, transposed](Tape& t, const std::vector<Var>& in, const OpAttrs& a) {
             ops::ConvParams params;
             params.stride = static_cast<int>(a.integer("stride"));
             params.padding = static_cast<int>(a.integer("padding"));
-            if (transposed) params.outputPadding = static_cast<int>(a.integer("output_padding"));
+            if (transposed)
+              params.outputPadding = static_cast<int>(a.integer("output_padding"));
+            else
+              params.inputSlope = static_cast<float>(a.number("input_slope"));
             return std::vector<Var>{function(t, in[0], in[1], in[2], params)};
           }};
 }
@@ -104,6 +111,17 @@ OpExample convExample(std::string name, Shape x, Shape w, int64_t outChannels, b
   return example;
 }
 
+// A convolution that reads x through leaky ReLU: x away from the kink at 0, steps that do not cross it.
+OpExample activatedConvExample(std::string name, Shape x, Shape w, int64_t outChannels,
+                               std::map<std::string, std::string> attrs) {
+  attrs.emplace("input_slope", "0.2");
+  return {.name = std::move(name),
+          .inputs = {{"x", draw::awayFromZero(std::move(x))},
+                     {"w", draw::uniform(std::move(w))},
+                     {"b", draw::uniform({outChannels})}},
+          .attrs = std::move(attrs)};
+}
+
 OpSpec withExamples(OpSpec spec, std::vector<OpExample> examples) {
   spec.examples = std::move(examples);
   return spec;
@@ -114,12 +132,18 @@ const bool registered =
         convSpec("conv2d", "y = conv2d(x, w) + b; x [N,C,H,W], w [K,C,kH,kW], b [K]", conv2d, false),
         {convExample("3x3, padding 1, bias", {2, 3, 7, 6}, {5, 3, 3, 3}, 5, true, {{"padding", "1"}}),
          convExample("2x3, stride 2, no bias", {1, 2, 9, 8}, {4, 2, 2, 3}, 4, false, {{"stride", "2"}}),
-         convExample("1x1", {2, 5, 3, 4}, {3, 5, 1, 1}, 3, true, {})})) &&
+         convExample("1x1", {2, 5, 3, 4}, {3, 5, 1, 1}, 3, true, {}),
+         activatedConvExample("1x1 through leaky ReLU", {2, 5, 3, 4}, {3, 5, 1, 1}, 3, {}),
+         activatedConvExample("3x3 through leaky ReLU, padding 1", {2, 3, 5, 6}, {4, 3, 3, 3}, 4,
+                              {{"padding", "1"}})})) &&
     registerOp(withExamples(
         convSpec("conv3d", "y = conv3d(x, w) + b; x [N,C,D,H,W], w [K,C,kD,kH,kW], b [K]", conv3d, false),
         {convExample("3x3x3, stride 2, padding 1, bias", {1, 2, 5, 6, 7}, {3, 2, 3, 3, 3}, 3, true,
                      {{"stride", "2"}, {"padding", "1"}}),
-         convExample("3x3x3, padding 1, 8 channels", {1, 3, 3, 4, 5}, {8, 3, 3, 3, 3}, 8, false, {{"padding", "1"}})})) &&
+         convExample("3x3x3, padding 1, 8 channels", {1, 3, 3, 4, 5}, {8, 3, 3, 3, 3}, 8, false, {{"padding", "1"}}),
+         activatedConvExample("1x1x1 through leaky ReLU", {2, 6, 2, 3, 2}, {5, 6, 1, 1, 1}, 5, {}),
+         activatedConvExample("3x3x3 through leaky ReLU, stride 2, padding 1", {1, 2, 5, 4, 5}, {3, 2, 3, 3, 3}, 3,
+                              {{"stride", "2"}, {"padding", "1"}})})) &&
     registerOp(withExamples(
         convSpec("conv_transpose2d", "y = conv_transpose2d(x, w) + b; x [N,C,H,W], w [C,K,kH,kW], b [K]",
                  convTranspose2d, true),

@@ -28,9 +28,9 @@ Bottleneck::Bottleneck(Context& context, BottleneckOptions o) : options_(o) {
 
 Var Bottleneck::forward(Tape& tape, const Var& x) {
   const float slope = options_.negativeSlope;
-  Var h = reduce_->forward(tape, fn::leakyRelu(tape, x, slope));
-  h = conv_->forward(tape, fn::leakyRelu(tape, h, slope));
-  h = expand_->forward(tape, fn::leakyRelu(tape, h, slope));
+  Var h = reduce_->forwardThroughLeakyRelu(tape, x, slope);
+  h = conv_->forwardThroughLeakyRelu(tape, h, slope);
+  h = expand_->forwardThroughLeakyRelu(tape, h, slope);
   return fn::add(tape, skip_->forward(tape, x), h);
 }
 

@@ -24,8 +24,16 @@ Conv::Conv(Context& context, int dims, int64_t inChannels, int64_t outChannels, 
   if (options.bias) bias_ = addParameter(context, "bias", {outChannels}, Init::bias(options.init, fanIn));
 }
 
-Var Conv::forward(Tape& tape, const Var& x) {
-  Var y = dims_ == 2 ? fn::conv2d(tape, x, weight_, bias_, params_) : fn::conv3d(tape, x, weight_, bias_, params_);
+Var Conv::forward(Tape& tape, const Var& x) { return convolve(tape, x, params_); }
+
+Var Conv::forwardThroughLeakyRelu(Tape& tape, const Var& x, float negativeSlope) {
+  ops::ConvParams params = params_;
+  params.inputSlope = negativeSlope;
+  return convolve(tape, x, params);
+}
+
+Var Conv::convolve(Tape& tape, const Var& x, const ops::ConvParams& params) {
+  Var y = dims_ == 2 ? fn::conv2d(tape, x, weight_, bias_, params) : fn::conv3d(tape, x, weight_, bias_, params);
   // weight [out, in, k...]: per output element, in * k^dims multiply-adds.
   countLayer(2.0 * static_cast<double>(y->value.numel()) * static_cast<double>(weight_->value.numel() / weight_->value.size(0)),
              y, {x}, weight_);

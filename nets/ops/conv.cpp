@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "nets/ops/activation.h"
 #include "nets/ops/conv_geometry.h"
 #include "nets/ops/conv_kernels.h"
 #include "runtime/context.h"
@@ -27,10 +28,19 @@ void requireOutputPadding(const char* op, const ConvParams& params) {
 
 int64_t taps(const Int3& kernel) { return kernel[0] * kernel[1] * kernel[2]; }
 
+// The input activation belongs to the convolution's own forward, weight-gradient and activated-input passes.
+void requireNoInputActivation(const char* op, const ConvParams& params) {
+  if (params.inputSlope != 1.0f)
+    throw Error(std::string(op) + ": input slope " + std::to_string(params.inputSlope) +
+                ", expected 1 (a leaky ReLU on the input belongs to conv forward, conv backward weight and "
+                "convBackwardActivatedInput)");
+}
+
 // y = wp^T x + b (pointwise) or dx = w^T dy (its backward input, `transposedWeights`): pack w as [C, K]
 // (or [K, C]), one pointwise pass over the unpadded tensors.
 void pointwise(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& w, const Tensor* bias,
-               const Tensor& y, ConvBlocking blocking, bool transposedWeights) {
+               const Tensor& y, ConvBlocking blocking, bool transposedWeights,
+               const conv::PointwiseActivation& activation = {}) {
   const int64_t in = transposedWeights ? g.outChannels : g.inChannels;
   const int64_t out = transposedWeights ? g.inChannels : g.outChannels;
   const conv::PointwiseBlocking chosen = conv::pointwiseBlocking(stream.context().info(), blocking, out);
@@ -42,19 +52,20 @@ void pointwise(Stream& stream, const ConvGeometry& g, const Tensor& x, const Ten
   packing.sourceKernel = {1, 1, 1};
   packing.taps = {1, 1, 1};
   const Tensor packed = conv::packWeights(stream, w, packing, conv::pointwisePaddedK(chosen, out));
-  conv::pointwise(stream, x, packed, bias, y, chosen);
+  conv::pointwise(stream, x, packed, bias, y, chosen, activation);
 }
 
-// y = conv(x, w) + b: pad x, pack w as [C, k..., K], one direct pass with the conv's stride.
+// y = conv(f(x), w) + b: pad f(x), pack w as [C, k..., K], one direct pass with the conv's stride.
 void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& w, const Tensor* bias,
-             const Tensor& y, ConvBlocking blocking) {
-  if (conv::isPointwise(g)) return pointwise(stream, g, x, w, bias, y, blocking, false);
+             const Tensor& y, ConvBlocking blocking, float inputSlope) {
+  if (conv::isPointwise(g))
+    return pointwise(stream, g, x, w, bias, y, blocking, false, {.inputSlope = inputSlope});
   const ConvBlocking chosen = conv::directBlocking(stream.context().info(), blocking, g.output[2], g.kernel[0]);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t xBlocks = (g.output[2] + pixels - 1) / pixels;
   const Int3 size{(g.output[0] - 1) * g.stride + g.kernel[0], (g.output[1] - 1) * g.stride + g.kernel[1],
                   (xBlocks * pixels - 1) * g.stride + g.kernel[2]};
-  const conv::Padded xp = conv::pad(stream, conv::as5d(x), g.padding, size);
+  const conv::Padded xp = conv::pad(stream, conv::as5d(x), g.padding, size, inputSlope);
 
   conv::WeightPacking packing;
   packing.outChannels = g.outChannels;
@@ -135,14 +146,14 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
 }
 
 void weightGradient(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& dy, const Tensor& dw,
-                    ConvBlocking blocking) {
-  if (conv::isPointwise(g)) return conv::pointwiseWeightGrad(stream, x, dy, dw);
+                    ConvBlocking blocking, float inputSlope) {
+  if (conv::isPointwise(g)) return conv::pointwiseWeightGrad(stream, x, dy, dw, inputSlope);
   const ConvBlocking chosen = conv::weightGradBlocking(stream.context().info(), blocking, g.output[2], g.outChannels);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t paddedWidth = conv::roundUp(g.output[2], pixels);
   const Int3 size{(g.output[0] - 1) * g.stride + g.kernel[0], (g.output[1] - 1) * g.stride + g.kernel[1],
                   (paddedWidth - 1) * g.stride + g.kernel[2]};
-  const conv::Padded xp = conv::pad(stream, conv::as5d(x), g.padding, size);
+  const conv::Padded xp = conv::pad(stream, conv::as5d(x), g.padding, size, inputSlope);
   const Tensor rows = conv::packGrad(stream, conv::as5d(dy), paddedWidth,
                                      conv::roundUp(g.outChannels, 4 * static_cast<int64_t>(channelVec4s)));
   conv::weightGrad(stream, g, xp, rows, dw, pixels, channelVec4s);
@@ -179,15 +190,30 @@ void convForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor*
   const ConvGeometry g = conv::convGeometry(op, x.shape(), w.shape(), params);
   conv::requireShape(op, "output", y.shape(), g.outputShape());
   requireBias(op, bias, g.outChannels);
-  forward(stream, g, x, w, bias, y, blocking);
+  forward(stream, g, x, w, bias, y, blocking, params.inputSlope);
 }
 
 void convBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const ConvParams& params, const Tensor& dx,
                        ConvBlocking blocking) {
   const char* op = "conv backward input";
+  requireNoInputActivation(op, params);
   const ConvGeometry g = conv::convGeometry(op, dx.shape(), w.shape(), params);
   conv::requireShape(op, "output gradient", dy.shape(), g.outputShape());
   transposed(stream, g, dy, w, nullptr, dx, blocking);
+}
+
+void convBackwardActivatedInput(Stream& stream, const Tensor& dy, const Tensor& w, const Tensor& x,
+                                const ConvParams& params, const Tensor& dx, ConvBlocking blocking) {
+  const char* op = "conv backward activated input";
+  const ConvGeometry g = conv::convGeometry(op, dx.shape(), w.shape(), params);
+  conv::requireShape(op, "output gradient", dy.shape(), g.outputShape());
+  conv::requireShape(op, "input", x.shape(), dx.shape());
+  if (conv::isPointwise(g))
+    return pointwise(stream, g, dy, w, nullptr, dx, blocking, true, {.gate = &x, .gateSlope = params.inputSlope});
+  if (params.inputSlope == 1.0f) return transposed(stream, g, dy, w, nullptr, dx, blocking);
+  const Tensor through(stream.context(), dx.shape());
+  transposed(stream, g, dy, w, nullptr, through, blocking);
+  activationBackward(stream, Activation::LeakyRelu, params.inputSlope, x, through, dx);
 }
 
 void convBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const ConvParams& params, const Tensor& dw,
@@ -195,7 +221,7 @@ void convBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const
   const char* op = "conv backward weight";
   const ConvGeometry g = conv::convGeometry(op, x.shape(), dw.shape(), params);
   conv::requireShape(op, "output gradient", dy.shape(), g.outputShape());
-  weightGradient(stream, g, x, dy, dw, blocking);
+  weightGradient(stream, g, x, dy, dw, blocking, params.inputSlope);
 }
 
 void convBackwardBias(Stream& stream, const Tensor& dy, const Tensor& db) {
@@ -208,6 +234,7 @@ void convBackwardBias(Stream& stream, const Tensor& dy, const Tensor& db) {
 void convTransposeForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias,
                           const ConvParams& params, const Tensor& y, ConvBlocking blocking) {
   const char* op = "conv transpose forward";
+  requireNoInputActivation(op, params);
   conv::requireShape(op, "output", y.shape(), convTransposeOutputShape(x.shape(), w.shape(), params));
   const ConvGeometry g = conv::convGeometry(op, y.shape(), w.shape(), params);
   conv::requireShape(op, "input", x.shape(), g.outputShape());
@@ -219,18 +246,20 @@ void convTransposeBackwardInput(Stream& stream, const Tensor& dy, const Tensor& 
                                 const Tensor& dx, ConvBlocking blocking) {
   const char* op = "conv transpose backward input";
   requireOutputPadding(op, params);
+  requireNoInputActivation(op, params);
   const ConvGeometry g = conv::convGeometry(op, dy.shape(), w.shape(), params);
   conv::requireShape(op, "input gradient", dx.shape(), g.outputShape());
-  forward(stream, g, dy, w, nullptr, dx, blocking);
+  forward(stream, g, dy, w, nullptr, dx, blocking, 1.0f);
 }
 
 void convTransposeBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const ConvParams& params,
                                  const Tensor& dw, ConvBlocking blocking) {
   const char* op = "conv transpose backward weight";
   requireOutputPadding(op, params);
+  requireNoInputActivation(op, params);
   const ConvGeometry g = conv::convGeometry(op, dy.shape(), dw.shape(), params);
   conv::requireShape(op, "input", x.shape(), g.outputShape());
-  weightGradient(stream, g, dy, x, dw, blocking);
+  weightGradient(stream, g, dy, x, dw, blocking, 1.0f);
 }
 
 }  // namespace smokesvd::ops

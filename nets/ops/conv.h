@@ -17,6 +17,10 @@ struct ConvParams {
   int stride = 1;
   int padding = 0;
   int outputPadding = 0;  // transposed convolution only: extra output rows at the high end, < stride
+  // Convolution only: it reads its input through leaky ReLU with this negative slope (0: ReLU),
+  // y = conv(f(x), w) + b with f(v) = v > 0 ? v : inputSlope v, fused into the kernels that read x;
+  // 1 reads x as it is. Its input gradient is convBackwardActivatedInput's.
+  float inputSlope = 1.0f;
 };
 
 // Register blocking of the kernels; 0 lets the host choose from the shapes. Every choice gives the same
@@ -29,13 +33,18 @@ struct ConvBlocking {
 Shape convOutputShape(const Shape& x, const Shape& w, const ConvParams& params);
 Shape convTransposeOutputShape(const Shape& x, const Shape& w, const ConvParams& params);
 
-// y = conv(x, w) + b
+// y = conv(f(x), w) + b, f the leaky ReLU of params.inputSlope (none at 1)
 void convForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias, const ConvParams& params,
                  const Tensor& y, ConvBlocking blocking = {});
-// dx = d<dy, conv(x, w)>/dx: a transposed convolution of dy (dx's shape says the input size).
+// dx = d<dy, conv(x, w)>/dx: a transposed convolution of dy (dx's shape says the input size); params.inputSlope
+// must be 1 (see convBackwardActivatedInput).
 void convBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const ConvParams& params,
                        const Tensor& dx, ConvBlocking blocking = {});
-// dw = d<dy, conv(x, w)>/dw
+// dx = d<dy, conv(f(x), w)>/dx = f'(x) * (the transposed convolution of dy), f the leaky ReLU of
+// params.inputSlope: the input gradient of a convolution that reads its input through it.
+void convBackwardActivatedInput(Stream& stream, const Tensor& dy, const Tensor& w, const Tensor& x,
+                                const ConvParams& params, const Tensor& dx, ConvBlocking blocking = {});
+// dw = d<dy, conv(f(x), w)>/dw (f as in convForward)
 void convBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const ConvParams& params,
                         const Tensor& dw, ConvBlocking blocking = {});
 // db[k] = sum of dy over the batch and every position of channel k (conv and transposed conv alike).

@@ -95,7 +95,7 @@ ConvBlocking weightGradBlocking(const DeviceInfo& device, ConvBlocking requested
   return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : std::min(d.weightGradChannelVec4s, filled)};
 }
 
-Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size) {
+Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, float inputSlope) {
   const Shape& s = x5.shape();
   Padded xp;
   xp.size = {size[0], size[1], roundUp(size[2], 4)};
@@ -105,9 +105,11 @@ Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size) 
   xp.tensor = Tensor(stream.context(), {s[0] * s[1] * xp.size[0] * xp.size[1] * xp.size[2] + 4});
   struct {
     int32_t depth, height, width, paddedDepth, paddedHeight, paddedRowVec4s, lowZ, lowY, lowX;
+    float slope;
   } push{i32(s[2]),          i32(s[3]),          i32(s[4]),           i32(xp.size[0]), i32(xp.size[1]),
-         i32(xp.size[2] / 4), i32(low[0]), i32(low[1]), i32(low[2])};
-  stream.dispatch(stream.kernel("nn/conv_pad", kRowWorkgroup), {x5, xp.tensor}, push,
+         i32(xp.size[2] / 4), i32(low[0]), i32(low[1]), i32(low[2]), inputSlope};
+  const Kernel& kernel = stream.kernel("nn/conv_pad", kRowWorkgroup, {inputSlope != 1.0f ? 1 : 0});
+  stream.dispatch(kernel, {x5, xp.tensor}, push,
                   {groupsFor(xp.size[1], kRowWorkgroup[0]), static_cast<uint32_t>(s[0] * s[1] * xp.size[0]), 1});
   return xp;
 }
@@ -239,22 +241,29 @@ int64_t pointwisePaddedK(const PointwiseBlocking& blocking, int64_t outChannels)
 }
 
 void pointwise(Stream& stream, const Tensor& x, const Tensor& packedWeights, const Tensor* bias, const Tensor& y,
-               const PointwiseBlocking& blocking) {
+               const PointwiseBlocking& blocking, const PointwiseActivation& activation) {
   const int64_t planeVec4s = y.numel() / (y.size(0) * y.size(1)) / 4;
   const int64_t kBlocks = (y.size(1) + blocking.channels - 1) / blocking.channels;
   const int64_t items = (planeVec4s + blocking.positionVec4s - 1) / blocking.positionVec4s;
+  if (activation.gate != nullptr) requireShape("pointwise convolution", "gate", activation.gate->shape(), y.shape());
   struct {
     int32_t channels, planeVec4s, outChannels, weightRow;
-  } push{i32(x.size(1)), i32(planeVec4s), i32(y.size(1)), i32(pointwisePaddedK(blocking, y.size(1)) / 4)};
+    float inputSlope, gateSlope;
+  } push{i32(x.size(1)), i32(planeVec4s), i32(y.size(1)), i32(pointwisePaddedK(blocking, y.size(1)) / 4),
+         activation.inputSlope, activation.gateSlope};
+  const bool activates = activation.inputSlope != 1.0f;
+  const bool gates = activation.gate != nullptr && activation.gateSlope != 1.0f;
   const Kernel& kernel = stream.kernel("nn/conv_pointwise", {kPointwiseWorkgroup, 1, 1},
-                                       {blocking.positionVec4s, blocking.channels, bias != nullptr ? 1 : 0});
+                                       {blocking.positionVec4s, blocking.channels, bias != nullptr ? 1 : 0,
+                                        activates ? 1 : 0, gates ? 1 : 0});
   const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(packedWeights);
-  stream.dispatch(kernel, {asVec4(x), asVec4(packedWeights), biasArg, y}, push,
+  const Arg gateArg = gates ? asVec4(*activation.gate) : asVec4(packedWeights);
+  stream.dispatch(kernel, {asVec4(x), asVec4(packedWeights), biasArg, gateArg, y}, push,
                   {static_cast<uint32_t>(kBlocks), groupsFor(items, kPointwiseWorkgroup),
                    static_cast<uint32_t>(y.size(0))});
 }
 
-void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const Tensor& dw) {
+void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const Tensor& dw, float inputSlope) {
   const DeviceInfo& device = stream.context().info();
   const int64_t batch = x.size(0), channels = x.size(1), outChannels = g.size(1);
   const int64_t planeVec4s = x.numel() / (batch * channels) / 4;
@@ -275,9 +284,10 @@ void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const
   const Tensor partial = slots == 1 ? dw : Tensor(stream.context(), {slots * dw.numel()});
   struct {
     int32_t channels, outChannels, planeVec4s, chunkVec4s, inBlocks;
-  } push{i32(channels), i32(outChannels), i32(planeVec4s), i32(chunkVec4s), i32(inBlocks)};
+    float inputSlope;
+  } push{i32(channels), i32(outChannels), i32(planeVec4s), i32(chunkVec4s), i32(inBlocks), inputSlope};
   const Kernel& kernel = stream.kernel("nn/conv_pointwise_weight_grad", {workgroup, 1, 1},
-                                       {inChannelsPerLane, outChannelsPerLane});
+                                       {inChannelsPerLane, outChannelsPerLane, inputSlope != 1.0f ? 1 : 0});
   stream.dispatch(kernel, {asVec4(x), asVec4(g), partial}, push,
                   {static_cast<uint32_t>(chunks), static_cast<uint32_t>(pairs), static_cast<uint32_t>(batch)});
   if (slots > 1) sumPartials(stream, partial, slots, dw);

@@ -25,7 +25,8 @@ struct Padded {
   int64_t channels = 0;
   Int3 size{};
 };
-Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size);
+// inputSlope != 1 copies each value through leaky ReLU with that negative slope (ConvParams::inputSlope).
+Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, float inputSlope = 1.0f);
 
 // Where packed weight [c, r, s, t, k] comes from in a weight tensor: k and c are source axes with element
 // strides strideK and strideC; the tap (r, s, t) reads source tap firstTap + (r, s, t) * tapStep of a
@@ -75,10 +76,18 @@ PointwiseBlocking pointwiseBlocking(const DeviceInfo& device, ConvBlocking reque
 // y [N, K, P] = bias + wp^T x for x [N, C, P]; wp packed [C, paddedK] by packWeights with paddedK =
 // pointwisePaddedK(blocking, K).
 int64_t pointwisePaddedK(const PointwiseBlocking& blocking, int64_t outChannels);
+// Leaky ReLU around the pointwise pass (ConvParams::inputSlope): on its input (forward), or its derivative at
+// the forward input `gate` [N, K, P] multiplying its output (backward input). Slope 1 or no gate: none.
+struct PointwiseActivation {
+  float inputSlope = 1.0f;
+  const Tensor* gate = nullptr;
+  float gateSlope = 1.0f;
+};
 void pointwise(Stream& stream, const Tensor& x, const Tensor& packedWeights, const Tensor* bias, const Tensor& y,
-               const PointwiseBlocking& blocking);
-// dw [K, C] (any shape of K*C elements) = sum over n, p of g[n, k, p] x[n, c, p] for x [N, C, P], g [N, K, P].
-void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const Tensor& dw);
+               const PointwiseBlocking& blocking, const PointwiseActivation& activation = {});
+// dw [K, C] (any shape of K*C elements) = sum over n, p of g[n, k, p] f(x[n, c, p]), f leaky ReLU with
+// inputSlope (1: f(v) = v), for x [N, C, P], g [N, K, P].
+void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const Tensor& dw, float inputSlope = 1.0f);
 
 // db [K] = sum of g [N, K, P] over n and p: one pass, a workgroup per channel, where a lane's share fits
 // the loop budget on a CPU device; chunks of the plane and a second pass adding them otherwise.

@@ -1,10 +1,13 @@
 #version 450
-// Zero padding for the direct convolution:
-//   xp[q, z, y, x] = src[q, z - lowZ, y - lowY, x - lowX] where that lies inside src, else 0,
+// Zero padding for the direct convolution, optionally through leaky ReLU (ACTIVATE; f(0) = 0, so the
+// padding stays zero):
+//   xp[q, z, y, x] = f(src[q, z - lowZ, y - lowY, x - lowX]) where that lies inside src, else 0,
+//   f(v) = v > 0 ? v : slope v when ACTIVATE, else v,
 // q = n*C + c over [Q, D, H, W] -> [Q, Dp, Hp, Wp]. One invocation writes one row y as vec4s (Wp is a
 // multiple of 4); lanes run along y, workgroup y is the plane q*Dp + z, so the only division is
 // shared by the workgroup.
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
+layout(constant_id = 3) const bool ACTIVATE = false;
 
 layout(binding = 0) uniform samplerBuffer src;
 layout(std430, binding = 1) writeonly buffer Padded { vec4 xp[]; };
@@ -14,6 +17,7 @@ layout(push_constant) uniform Push {
   int paddedHeight;          // Hp
   int paddedRowVec4s;        // Wp / 4
   int lowZ, lowY, lowX;      // padding before the first element
+  float slope;               // negative slope of f (ACTIVATE)
 };
 
 void main() {
@@ -32,6 +36,6 @@ void main() {
       const int sx = column * 4 + i - lowX;
       if (inside && sx >= 0 && sx < width) v[i] = texelFetch(src, source + sx).x;
     }
-    xp[row + column] = v;
+    xp[row + column] = ACTIVATE ? mix(slope * v, v, greaterThan(v, vec4(0.0))) : v;
   }
 }

@@ -2,8 +2,11 @@
 // Pointwise (1x1, stride 1, no padding) convolution with packed weights: conv forward of a 1^d kernel and
 // its backward-input pass (nets/ops/conv.cpp, docs/convolution.md):
 //
-//   y[n, k, p] = bias[k] + sum_{c<C} wp[c, k] * x[n, c, p]      p < P, the flattened spatial positions
+//   y[n, k, p] = gate(n, k, p) * (bias[k] + sum_{c<C} wp[c, k] * f(x[n, c, p]))      p < P (flat positions)
 //
+// f(v) = v > 0 ? v : inputSlope v when INPUT_ACTIVATION (the forward pass of a convolution that reads its
+// input through leaky ReLU), else v; gate(n, k, p) = u[n, k, p] > 0 ? 1 : gateSlope when GATE (the
+// backward-input pass of such a convolution: the leaky ReLU's derivative at its forward input u), else 1.
 // n batch, c input channel, k output channel. x [N, C, P] and y [N, K, P] are read and written as vec4s
 // of four consecutive positions (P is a multiple of 4), so neither needs a padded copy; wp holds the
 // weights as [C, Kpad], Kpad a multiple of 4*ceil(CHANNELS/4), zero past K, read as vec4s.
@@ -17,18 +20,23 @@ layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int POSITION_VEC4S = 4;
 layout(constant_id = 4) const int CHANNELS = 8;
 layout(constant_id = 5) const bool HAS_BIAS = false;
+layout(constant_id = 6) const bool INPUT_ACTIVATION = false;
+layout(constant_id = 7) const bool GATE = false;
 
 const int CHANNEL_VEC4S = (CHANNELS + 3) / 4;
 
 layout(binding = 0) uniform samplerBuffer x4;
 layout(binding = 1) uniform samplerBuffer wp;
 layout(binding = 2) uniform samplerBuffer bias;
-layout(std430, binding = 3) writeonly buffer Output { vec4 y4[]; };
+layout(binding = 3) uniform samplerBuffer gate4;  // [N, K, P] as vec4s, read when GATE
+layout(std430, binding = 4) writeonly buffer Output { vec4 y4[]; };
 layout(push_constant) uniform Push {
   int channels;     // C
   int planeVec4s;   // P / 4
   int outChannels;  // K
   int weightRow;    // Kpad / 4: vec4s per input channel of wp
+  float inputSlope;
+  float gateSlope;
 };
 
 void main() {
@@ -52,7 +60,10 @@ void main() {
   int w = k0 / 4;
   for (int c = 0; c < channels; ++c, source += planeVec4s, w += weightRow) {
     vec4 xv[POSITION_VEC4S];
-    for (int v = 0; v < POSITION_VEC4S; ++v) xv[v] = texelFetch(x4, source + at[v]);
+    for (int v = 0; v < POSITION_VEC4S; ++v) {
+      xv[v] = texelFetch(x4, source + at[v]);
+      if (INPUT_ACTIVATION) xv[v] = mix(inputSlope * xv[v], xv[v], greaterThan(xv[v], vec4(0.0)));
+    }
     vec4 weight[CHANNEL_VEC4S];
     for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[q] = texelFetch(wp, w + q);
     for (int k = 0; k < CHANNELS; ++k)
@@ -62,7 +73,12 @@ void main() {
   const int outBase = (n * outChannels + k0) * planeVec4s;
   for (int k = 0; k < CHANNELS; ++k) {
     if (k0 + k >= outChannels) break;
-    for (int v = 0; v < POSITION_VEC4S; ++v)
-      if (first + v < planeVec4s) y4[outBase + k * planeVec4s + first + v] = acc[k][v];
+    for (int v = 0; v < POSITION_VEC4S; ++v) {
+      if (first + v >= planeVec4s) continue;
+      const int index = outBase + k * planeVec4s + first + v;
+      vec4 value = acc[k][v];
+      if (GATE) value = mix(gateSlope * value, value, greaterThan(texelFetch(gate4, index), vec4(0.0)));
+      y4[index] = value;
+    }
   }
 }

@@ -3,8 +3,10 @@
 // Weight gradient of the pointwise (1x1, stride 1, no padding) convolution, first stage (partial sums
 // over chunks of positions):
 //
-//   partial[j, k, c] = sum_{p in chunk} g[n, k, p] * x[n, c, p]      slot j = (n * chunks + chunk) * S + s
+//   partial[j, k, c] = sum_{p in chunk} g[n, k, p] * f(x[n, c, p])      slot j = (n * chunks + chunk) * S + s
 //
+// f(v) = v > 0 ? v : slope v when INPUT_ACTIVATION (a convolution that reads its input through leaky
+// ReLU), else v.
 // g [N, K, P] the output gradient and x [N, C, P] the input, both read as vec4s of four consecutive
 // positions (P a multiple of 4), neither copied. A workgroup sums one chunk of chunkVec4s position
 // vec4s; its lanes interleave (lane l takes vec4s l, l + W, l + 2W, ... of the chunk, W the workgroup
@@ -19,6 +21,7 @@
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int IN_CHANNELS = 4;
 layout(constant_id = 4) const int OUT_CHANNELS = 4;
+layout(constant_id = 5) const bool INPUT_ACTIVATION = false;
 
 layout(binding = 0) uniform samplerBuffer x4;
 layout(binding = 1) uniform samplerBuffer g4;
@@ -29,6 +32,7 @@ layout(push_constant) uniform Push {
   int planeVec4s;   // P / 4
   int chunkVec4s;   // position vec4s per chunk, a multiple of the workgroup size
   int inBlocks;     // ceil(C / IN_CHANNELS)
+  float slope;      // negative slope of f
 };
 
 void main() {
@@ -50,7 +54,10 @@ void main() {
   const int end = min((chunk + 1) * chunkVec4s, planeVec4s);
   for (int p = chunk * chunkVec4s + int(gl_LocalInvocationID.x); p < end; p += step) {
     vec4 xv[IN_CHANNELS];
-    for (int i = 0; i < IN_CHANNELS; ++i) xv[i] = texelFetch(x4, xRow[i] + p);
+    for (int i = 0; i < IN_CHANNELS; ++i) {
+      xv[i] = texelFetch(x4, xRow[i] + p);
+      if (INPUT_ACTIVATION) xv[i] = mix(slope * xv[i], xv[i], greaterThan(xv[i], vec4(0.0)));
+    }
     vec4 gv[OUT_CHANNELS];
     for (int o = 0; o < OUT_CHANNELS; ++o) gv[o] = texelFetch(g4, gRow[o] + p);
     for (int i = 0; i < IN_CHANNELS; ++i)
