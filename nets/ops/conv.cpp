@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <string>
 
-#include "nets/ops/activation.h"
 #include "nets/ops/conv_geometry.h"
 #include "nets/ops/conv_kernels.h"
 #include "runtime/context.h"
@@ -84,12 +83,14 @@ void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tenso
   conv::direct(stream, xp, packed, bias, conv::as5d(y), pass, pixels, channelVec4s);
 }
 
-// dx = d<dy, conv(x, w)>/dx (+ b): the transposed convolution, as stride^3 phases. Phase (rz, ry, rx)
+// dx = d<dy, conv(x, w)>/dx (+ b): the transposed convolution, as stride^3 phases, each output multiplied by
+// the derivative of leaky ReLU (gateSlope) at `gate` when there is one. Phase (rz, ry, rx)
 // writes the outputs i = r + stride*j; each is a stride-1 direct convolution of the padded dy with a
 // flipped, sub-sampled, channel-transposed copy of w.
 void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const Tensor& w, const Tensor* bias,
-                const Tensor& dx, ConvBlocking blocking) {
-  if (conv::isPointwise(g)) return pointwise(stream, g, dy, w, bias, dx, blocking, true);
+                const Tensor& dx, ConvBlocking blocking, const Tensor* gate = nullptr, float gateSlope = 1.0f) {
+  if (conv::isPointwise(g))
+    return pointwise(stream, g, dy, w, bias, dx, blocking, true, {.gate = gate, .gateSlope = gateSlope});
   std::array<std::vector<conv::Phase>, 3> phases;
   Int3 low{}, size{};
   int64_t widest = 1;
@@ -112,6 +113,7 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
   }
   const conv::Padded dyp = conv::pad(stream, conv::as5d(dy), low, size);
   const Tensor dx5 = conv::as5d(dx);
+  const Tensor gate5 = gate != nullptr ? conv::as5d(*gate) : Tensor();
   const int64_t paddedK = conv::roundUp(g.inChannels, 4 * static_cast<int64_t>(channelVec4s));
 
   for (const conv::Phase& pz : phases[0]) {
@@ -139,7 +141,7 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
         pass.taps = packing.taps;
         if (!gathers) pass.taps = {0, 1, 1};  // no taps; keeps the kernel's row arrays non-empty
         const Tensor packed = conv::packWeights(stream, w, packing, paddedK);
-        conv::direct(stream, dyp, packed, bias, dx5, pass, pixels, channelVec4s);
+        conv::direct(stream, dyp, packed, bias, dx5, pass, pixels, channelVec4s, gate ? &gate5 : nullptr, gateSlope);
       }
     }
   }
@@ -208,12 +210,7 @@ void convBackwardActivatedInput(Stream& stream, const Tensor& dy, const Tensor& 
   const ConvGeometry g = conv::convGeometry(op, dx.shape(), w.shape(), params);
   conv::requireShape(op, "output gradient", dy.shape(), g.outputShape());
   conv::requireShape(op, "input", x.shape(), dx.shape());
-  if (conv::isPointwise(g))
-    return pointwise(stream, g, dy, w, nullptr, dx, blocking, true, {.gate = &x, .gateSlope = params.inputSlope});
-  if (params.inputSlope == 1.0f) return transposed(stream, g, dy, w, nullptr, dx, blocking);
-  const Tensor through(stream.context(), dx.shape());
-  transposed(stream, g, dy, w, nullptr, through, blocking);
-  activationBackward(stream, Activation::LeakyRelu, params.inputSlope, x, through, dx);
+  transposed(stream, g, dy, w, nullptr, dx, blocking, &x, params.inputSlope);
 }
 
 void convBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const ConvParams& params, const Tensor& dw,

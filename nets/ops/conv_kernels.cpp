@@ -139,8 +139,10 @@ Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int6
 }
 
 void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const Tensor* bias, const Tensor& y5,
-            const DirectPass& pass, int pixels, int channelVec4s) {
+            const DirectPass& pass, int pixels, int channelVec4s, const Tensor* gate, float gateSlope) {
   const Shape& out = y5.shape();
+  const bool gates = gate != nullptr && gateSlope != 1.0f;
+  if (gate != nullptr) requireShape("direct convolution", "gate", gate->shape(), out);
   const int64_t xBlocks = (pass.grid[2] + pixels - 1) / pixels;
   const int64_t items = xBlocks * pass.grid[1] * pass.grid[0];
   const int64_t channelBlock = 4 * channelVec4s;
@@ -152,6 +154,7 @@ void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const
   struct {
     int32_t channels, inPlane, inSlice, inRow, inBase, gridD, gridH, gridW, xBlocks, outChannels, weightRow, outPlane,
         outStepZ, outStepY, outStepX, outBase;
+    float gateSlope;
   } push{i32(xp.channels),
          i32(xp.size[0] * inSlice),
          i32(inSlice),
@@ -167,13 +170,15 @@ void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const
          i32(pass.outStep[0] * outSlice),
          i32(pass.outStep[1] * out[4]),
          i32(pass.outStep[2]),
-         i32(pass.outStart[0] * outSlice + pass.outStart[1] * out[4] + pass.outStart[2])};
+         i32(pass.outStart[0] * outSlice + pass.outStart[1] * out[4] + pass.outStart[2]),
+         gateSlope};
   const Kernel& kernel =
       stream.kernel("nn/conv_direct", {kDirectWorkgroup, 1, 1},
                     {i32(pass.taps[0]), i32(pass.taps[1]), i32(pass.taps[2]), pass.stride, pixels, channelVec4s,
-                     bias != nullptr ? 1 : 0, alignedRows ? 1 : 0});
+                     bias != nullptr ? 1 : 0, alignedRows ? 1 : 0, gates ? 1 : 0});
   const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(packedWeights);
-  stream.dispatch(kernel, {xp.tensor, asVec4(xp.tensor), asVec4(packedWeights), biasArg, y5}, push,
+  const Arg gateArg = gates ? Arg(*gate) : Arg(xp.tensor);
+  stream.dispatch(kernel, {xp.tensor, asVec4(xp.tensor), asVec4(packedWeights), biasArg, gateArg, y5}, push,
                   {static_cast<uint32_t>(kBlocks), groupsFor(items, kDirectWorkgroup), static_cast<uint32_t>(out[0])});
 }
 

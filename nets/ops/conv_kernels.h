@@ -53,8 +53,11 @@ struct DirectPass {
   Int3 outStep{1, 1, 1};   // output positions between neighbouring grid positions
   Int3 outStart{};         // output position of grid position 0
 };
+// With a gate u [N, K, outSize] and gateSlope != 1 each output is multiplied by u > 0 ? 1 : gateSlope (the
+// derivative of leaky ReLU at u: the input gradient of a convolution through it, ConvParams::inputSlope).
 void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const Tensor* bias, const Tensor& y5,
-            const DirectPass& pass, int pixels, int channelVec4s);
+            const DirectPass& pass, int pixels, int channelVec4s, const Tensor* gate = nullptr,
+            float gateSlope = 1.0f);
 
 // Output gradient [N, K, D, H, W] as rows with channels last: [N*D*H, paddedWidth, paddedK], zero-filled.
 Tensor packGrad(Stream& stream, const Tensor& g5, int64_t paddedWidth, int64_t paddedK);
