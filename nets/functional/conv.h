@@ -9,8 +9,12 @@
 
 namespace smokesvd::fn {
 
-Var conv2d(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params);
-Var conv3d(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params);
+// With an addend (a Var of the output's shape, or nullptr): y = addend + conv(...) + b, the sum made as y is
+// written (a residual connection without a pass of its own); params.inputSlope reads x through leaky ReLU.
+Var conv2d(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params,
+           const Var& addend = nullptr);
+Var conv3d(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params,
+           const Var& addend = nullptr);
 Var convTranspose2d(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params);
 Var convTranspose3d(Tape& tape, const Var& x, const Var& w, const Var& bias, const ops::ConvParams& params);
 

@@ -30,8 +30,7 @@ Var Bottleneck::forward(Tape& tape, const Var& x) {
   const float slope = options_.negativeSlope;
   Var h = reduce_->forwardThroughLeakyRelu(tape, x, slope);
   h = conv_->forwardThroughLeakyRelu(tape, h, slope);
-  h = expand_->forwardThroughLeakyRelu(tape, h, slope);
-  return fn::add(tape, skip_->forward(tape, x), h);
+  return expand_->forwardThroughLeakyRelu(tape, h, slope, skip_->forward(tape, x));
 }
 
 std::vector<Var> Bottleneck::forwardParts(Tape& tape, const std::vector<Var>& parts,

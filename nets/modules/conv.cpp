@@ -24,16 +24,17 @@ Conv::Conv(Context& context, int dims, int64_t inChannels, int64_t outChannels, 
   if (options.bias) bias_ = addParameter(context, "bias", {outChannels}, Init::bias(options.init, fanIn));
 }
 
-Var Conv::forward(Tape& tape, const Var& x) { return convolve(tape, x, params_); }
+Var Conv::forward(Tape& tape, const Var& x) { return convolve(tape, x, params_, nullptr); }
 
-Var Conv::forwardThroughLeakyRelu(Tape& tape, const Var& x, float negativeSlope) {
+Var Conv::forwardThroughLeakyRelu(Tape& tape, const Var& x, float negativeSlope, const Var& addend) {
   ops::ConvParams params = params_;
   params.inputSlope = negativeSlope;
-  return convolve(tape, x, params);
+  return convolve(tape, x, params, addend);
 }
 
-Var Conv::convolve(Tape& tape, const Var& x, const ops::ConvParams& params) {
-  Var y = dims_ == 2 ? fn::conv2d(tape, x, weight_, bias_, params) : fn::conv3d(tape, x, weight_, bias_, params);
+Var Conv::convolve(Tape& tape, const Var& x, const ops::ConvParams& params, const Var& addend) {
+  Var y = dims_ == 2 ? fn::conv2d(tape, x, weight_, bias_, params, addend)
+                     : fn::conv3d(tape, x, weight_, bias_, params, addend);
   // weight [out, in, k...]: per output element, in * k^dims multiply-adds.
   countLayer(2.0 * static_cast<double>(y->value.numel()) * static_cast<double>(weight_->value.numel() / weight_->value.size(0)),
              y, {x}, weight_);

@@ -21,9 +21,10 @@ class Conv : public UnaryModule {
   // dims: 2 (N,C,H,W) or 3 (N,C,D,H,W).
   Conv(Context& context, int dims, int64_t inChannels, int64_t outChannels, int kernel, ConvOptions options = {});
   Var forward(Tape& tape, const Var& x) override;
-  // forward(leakyRelu(x, negativeSlope)) with the activation fused into the convolution's kernels
-  // (ops::ConvParams::inputSlope): no activated copy of x is made or kept.
-  Var forwardThroughLeakyRelu(Tape& tape, const Var& x, float negativeSlope);
+  // forward(leakyRelu(x, negativeSlope)), plus `addend` (a Var of the output's shape; nullptr: none), with the
+  // activation and the sum fused into the convolution's kernels (ops::ConvParams::inputSlope,
+  // fn::conv3d's addend): no activated copy of x is made or kept and the sum has no pass of its own.
+  Var forwardThroughLeakyRelu(Tape& tape, const Var& x, float negativeSlope, const Var& addend = nullptr);
   // The output channels of forward(cat(parts, 1)) in consecutive groups of outChannels each, every group
   // its own tensor (fn::convOfParts): for maps whose channels do not fit one tensor. One part and one
   // group is forward itself.
@@ -32,7 +33,7 @@ class Conv : public UnaryModule {
   const Var& bias() const { return bias_; }  // nullptr without bias
 
  private:
-  Var convolve(Tape& tape, const Var& x, const ops::ConvParams& params);
+  Var convolve(Tape& tape, const Var& x, const ops::ConvParams& params, const Var& addend);
 
   int dims_;
   ops::ConvParams params_;

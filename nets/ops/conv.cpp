@@ -38,8 +38,8 @@ void requireNoInputActivation(const char* op, const ConvParams& params) {
 // y = wp^T x + b (pointwise) or dx = w^T dy (its backward input, `transposedWeights`): pack w as [C, K]
 // (or [K, C]), one pointwise pass over the unpadded tensors.
 void pointwise(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& w, const Tensor* bias,
-               const Tensor& y, ConvBlocking blocking, bool transposedWeights,
-               const conv::PointwiseActivation& activation = {}) {
+               const Tensor& y, ConvBlocking blocking, bool transposedWeights, float inputSlope = 1.0f,
+               const conv::OutputTerms& terms = {}) {
   const int64_t in = transposedWeights ? g.outChannels : g.inChannels;
   const int64_t out = transposedWeights ? g.inChannels : g.outChannels;
   const conv::PointwiseBlocking chosen = conv::pointwiseBlocking(stream.context().info(), blocking, out);
@@ -51,14 +51,15 @@ void pointwise(Stream& stream, const ConvGeometry& g, const Tensor& x, const Ten
   packing.sourceKernel = {1, 1, 1};
   packing.taps = {1, 1, 1};
   const Tensor packed = conv::packWeights(stream, w, packing, conv::pointwisePaddedK(chosen, out));
-  conv::pointwise(stream, x, packed, bias, y, chosen, activation);
+  conv::pointwise(stream, x, packed, bias, y, chosen, inputSlope, terms);
 }
 
-// y = conv(f(x), w) + b: pad f(x), pack w as [C, k..., K], one direct pass with the conv's stride.
+// y = addend + conv(f(x), w) + b (no addend: 0): pad f(x), pack w as [C, k..., K], one direct pass with
+// the conv's stride.
 void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& w, const Tensor* bias,
-             const Tensor& y, ConvBlocking blocking, float inputSlope) {
+             const Tensor& y, ConvBlocking blocking, float inputSlope, const Tensor* addend = nullptr) {
   if (conv::isPointwise(g))
-    return pointwise(stream, g, x, w, bias, y, blocking, false, {.inputSlope = inputSlope});
+    return pointwise(stream, g, x, w, bias, y, blocking, false, inputSlope, {.addend = addend});
   const ConvBlocking chosen = conv::directBlocking(stream.context().info(), blocking, g.output[2], g.kernel[0]);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t xBlocks = (g.output[2] + pixels - 1) / pixels;
@@ -80,7 +81,9 @@ void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tenso
   pass.taps = g.kernel;
   pass.stride = g.stride;
   pass.grid = g.output;
-  conv::direct(stream, xp, packed, bias, conv::as5d(y), pass, pixels, channelVec4s);
+  const Tensor addend5 = addend != nullptr ? conv::as5d(*addend) : Tensor();
+  conv::direct(stream, xp, packed, bias, conv::as5d(y), pass, pixels, channelVec4s,
+               {.addend = addend != nullptr ? &addend5 : nullptr});
 }
 
 // dx = d<dy, conv(x, w)>/dx (+ b): the transposed convolution, as stride^3 phases, each output multiplied by
@@ -89,8 +92,9 @@ void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tenso
 // flipped, sub-sampled, channel-transposed copy of w.
 void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const Tensor& w, const Tensor* bias,
                 const Tensor& dx, ConvBlocking blocking, const Tensor* gate = nullptr, float gateSlope = 1.0f) {
+  const conv::OutputTerms terms{.gate = gate, .gateSlope = gateSlope};
   if (conv::isPointwise(g))
-    return pointwise(stream, g, dy, w, bias, dx, blocking, true, {.gate = gate, .gateSlope = gateSlope});
+    return pointwise(stream, g, dy, w, bias, dx, blocking, true, 1.0f, terms);
   std::array<std::vector<conv::Phase>, 3> phases;
   Int3 low{}, size{};
   int64_t widest = 1;
@@ -141,7 +145,8 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
         pass.taps = packing.taps;
         if (!gathers) pass.taps = {0, 1, 1};  // no taps; keeps the kernel's row arrays non-empty
         const Tensor packed = conv::packWeights(stream, w, packing, paddedK);
-        conv::direct(stream, dyp, packed, bias, dx5, pass, pixels, channelVec4s, gate ? &gate5 : nullptr, gateSlope);
+        conv::direct(stream, dyp, packed, bias, dx5, pass, pixels, channelVec4s,
+                     {.gate = gate != nullptr ? &gate5 : nullptr, .gateSlope = gateSlope});
       }
     }
   }
@@ -193,6 +198,16 @@ void convForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor*
   conv::requireShape(op, "output", y.shape(), g.outputShape());
   requireBias(op, bias, g.outChannels);
   forward(stream, g, x, w, bias, y, blocking, params.inputSlope);
+}
+
+void convForwardPlus(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias, const Tensor& addend,
+                     const ConvParams& params, const Tensor& y, ConvBlocking blocking) {
+  const char* op = "conv forward plus";
+  const ConvGeometry g = conv::convGeometry(op, x.shape(), w.shape(), params);
+  conv::requireShape(op, "output", y.shape(), g.outputShape());
+  conv::requireShape(op, "addend", addend.shape(), g.outputShape());
+  requireBias(op, bias, g.outChannels);
+  forward(stream, g, x, w, bias, y, blocking, params.inputSlope, &addend);
 }
 
 void convBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const ConvParams& params, const Tensor& dx,

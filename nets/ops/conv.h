@@ -36,6 +36,10 @@ Shape convTransposeOutputShape(const Shape& x, const Shape& w, const ConvParams&
 // y = conv(f(x), w) + b, f the leaky ReLU of params.inputSlope (none at 1)
 void convForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias, const ConvParams& params,
                  const Tensor& y, ConvBlocking blocking = {});
+// y = addend + conv(f(x), w) + b: convForward with a tensor of y's shape added as y is written (a residual
+// connection, without a pass of its own). Its gradients are convForward's, and dy itself for the addend.
+void convForwardPlus(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias, const Tensor& addend,
+                     const ConvParams& params, const Tensor& y, ConvBlocking blocking = {});
 // dx = d<dy, conv(x, w)>/dx: a transposed convolution of dy (dx's shape says the input size); params.inputSlope
 // must be 1 (see convBackwardActivatedInput).
 void convBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const ConvParams& params,

@@ -59,6 +59,13 @@ void sumPartials(Stream& stream, const Tensor& partial, int64_t parts, const Ten
                       static_cast<uint64_t>(out.numel()));
 }
 
+// A tensor read element for element beside the output y (a gate or an addend): as many elements as y.
+void requireSameElements(const char* op, const char* what, const Tensor& tensor, const Tensor& y) {
+  if (tensor.numel() != y.numel())
+    throw Error(std::string(op) + ": " + what + " " + toString(tensor.shape()) + " must have the output's " +
+                std::to_string(y.numel()) + " elements " + toString(y.shape()));
+}
+
 void requireBlocking(const ConvBlocking& requested) {
   if (requested.pixels < 0 || requested.pixels > 16)
     throw Error("conv: blocking of " + std::to_string(requested.pixels) + " pixels, expected 1..16 (0: automatic)");
@@ -139,10 +146,11 @@ Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int6
 }
 
 void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const Tensor* bias, const Tensor& y5,
-            const DirectPass& pass, int pixels, int channelVec4s, const Tensor* gate, float gateSlope) {
+            const DirectPass& pass, int pixels, int channelVec4s, const OutputTerms& terms) {
   const Shape& out = y5.shape();
-  const bool gates = gate != nullptr && gateSlope != 1.0f;
-  if (gate != nullptr) requireShape("direct convolution", "gate", gate->shape(), out);
+  const bool gates = terms.gate != nullptr && terms.gateSlope != 1.0f;
+  for (const auto& [what, tensor] : {std::pair{"gate", terms.gate}, std::pair{"addend", terms.addend}})
+    if (tensor != nullptr) requireSameElements("direct convolution", what, *tensor, y5);
   const int64_t xBlocks = (pass.grid[2] + pixels - 1) / pixels;
   const int64_t items = xBlocks * pass.grid[1] * pass.grid[0];
   const int64_t channelBlock = 4 * channelVec4s;
@@ -171,14 +179,15 @@ void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const
          i32(pass.outStep[1] * out[4]),
          i32(pass.outStep[2]),
          i32(pass.outStart[0] * outSlice + pass.outStart[1] * out[4] + pass.outStart[2]),
-         gateSlope};
+         terms.gateSlope};
   const Kernel& kernel =
       stream.kernel("nn/conv_direct", {kDirectWorkgroup, 1, 1},
                     {i32(pass.taps[0]), i32(pass.taps[1]), i32(pass.taps[2]), pass.stride, pixels, channelVec4s,
-                     bias != nullptr ? 1 : 0, alignedRows ? 1 : 0, gates ? 1 : 0});
+                     bias != nullptr ? 1 : 0, alignedRows ? 1 : 0, gates ? 1 : 0, terms.addend != nullptr ? 1 : 0});
   const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(packedWeights);
-  const Arg gateArg = gates ? Arg(*gate) : Arg(xp.tensor);
-  stream.dispatch(kernel, {xp.tensor, asVec4(xp.tensor), asVec4(packedWeights), biasArg, gateArg, y5}, push,
+  const Arg gateArg = gates ? Arg(*terms.gate) : Arg(xp.tensor);
+  const Arg addendArg = terms.addend != nullptr ? Arg(*terms.addend) : Arg(xp.tensor);
+  stream.dispatch(kernel, {xp.tensor, asVec4(xp.tensor), asVec4(packedWeights), biasArg, gateArg, addendArg, y5}, push,
                   {static_cast<uint32_t>(kBlocks), groupsFor(items, kDirectWorkgroup), static_cast<uint32_t>(out[0])});
 }
 
@@ -246,24 +255,25 @@ int64_t pointwisePaddedK(const PointwiseBlocking& blocking, int64_t outChannels)
 }
 
 void pointwise(Stream& stream, const Tensor& x, const Tensor& packedWeights, const Tensor* bias, const Tensor& y,
-               const PointwiseBlocking& blocking, const PointwiseActivation& activation) {
+               const PointwiseBlocking& blocking, float inputSlope, const OutputTerms& terms) {
   const int64_t planeVec4s = y.numel() / (y.size(0) * y.size(1)) / 4;
   const int64_t kBlocks = (y.size(1) + blocking.channels - 1) / blocking.channels;
   const int64_t items = (planeVec4s + blocking.positionVec4s - 1) / blocking.positionVec4s;
-  if (activation.gate != nullptr) requireShape("pointwise convolution", "gate", activation.gate->shape(), y.shape());
+  for (const auto& [what, tensor] : {std::pair{"gate", terms.gate}, std::pair{"addend", terms.addend}})
+    if (tensor != nullptr) requireSameElements("pointwise convolution", what, *tensor, y);
   struct {
     int32_t channels, planeVec4s, outChannels, weightRow;
     float inputSlope, gateSlope;
   } push{i32(x.size(1)), i32(planeVec4s), i32(y.size(1)), i32(pointwisePaddedK(blocking, y.size(1)) / 4),
-         activation.inputSlope, activation.gateSlope};
-  const bool activates = activation.inputSlope != 1.0f;
-  const bool gates = activation.gate != nullptr && activation.gateSlope != 1.0f;
+         inputSlope, terms.gateSlope};
+  const bool gates = terms.gate != nullptr && terms.gateSlope != 1.0f;
   const Kernel& kernel = stream.kernel("nn/conv_pointwise", {kPointwiseWorkgroup, 1, 1},
                                        {blocking.positionVec4s, blocking.channels, bias != nullptr ? 1 : 0,
-                                        activates ? 1 : 0, gates ? 1 : 0});
+                                        inputSlope != 1.0f ? 1 : 0, gates ? 1 : 0, terms.addend != nullptr ? 1 : 0});
   const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(packedWeights);
-  const Arg gateArg = gates ? asVec4(*activation.gate) : asVec4(packedWeights);
-  stream.dispatch(kernel, {asVec4(x), asVec4(packedWeights), biasArg, gateArg, y}, push,
+  const Arg gateArg = gates ? asVec4(*terms.gate) : asVec4(packedWeights);
+  const Arg addendArg = terms.addend != nullptr ? asVec4(*terms.addend) : asVec4(packedWeights);
+  stream.dispatch(kernel, {asVec4(x), asVec4(packedWeights), biasArg, gateArg, addendArg, y}, push,
                   {static_cast<uint32_t>(kBlocks), groupsFor(items, kPointwiseWorkgroup),
                    static_cast<uint32_t>(y.size(0))});
 }

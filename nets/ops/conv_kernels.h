@@ -53,11 +53,16 @@ struct DirectPass {
   Int3 outStep{1, 1, 1};   // output positions between neighbouring grid positions
   Int3 outStart{};         // output position of grid position 0
 };
-// With a gate u [N, K, outSize] and gateSlope != 1 each output is multiplied by u > 0 ? 1 : gateSlope (the
-// derivative of leaky ReLU at u: the input gradient of a convolution through it, ConvParams::inputSlope).
+// What the direct and pointwise passes do to each output value v as they write it: y = addend + g v, with
+// g = gate > 0 ? 1 : gateSlope, the derivative of leaky ReLU at `gate` (the input gradient of a convolution
+// through it, ConvParams::inputSlope), and `addend` a residual connection; both of y's shape, absent: none.
+struct OutputTerms {
+  const Tensor* gate = nullptr;
+  float gateSlope = 1.0f;
+  const Tensor* addend = nullptr;
+};
 void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const Tensor* bias, const Tensor& y5,
-            const DirectPass& pass, int pixels, int channelVec4s, const Tensor* gate = nullptr,
-            float gateSlope = 1.0f);
+            const DirectPass& pass, int pixels, int channelVec4s, const OutputTerms& terms = {});
 
 // Output gradient [N, K, D, H, W] as rows with channels last: [N*D*H, paddedWidth, paddedK], zero-filled.
 Tensor packGrad(Stream& stream, const Tensor& g5, int64_t paddedWidth, int64_t paddedK);
@@ -79,15 +84,9 @@ PointwiseBlocking pointwiseBlocking(const DeviceInfo& device, ConvBlocking reque
 // y [N, K, P] = bias + wp^T x for x [N, C, P]; wp packed [C, paddedK] by packWeights with paddedK =
 // pointwisePaddedK(blocking, K).
 int64_t pointwisePaddedK(const PointwiseBlocking& blocking, int64_t outChannels);
-// Leaky ReLU around the pointwise pass (ConvParams::inputSlope): on its input (forward), or its derivative at
-// the forward input `gate` [N, K, P] multiplying its output (backward input). Slope 1 or no gate: none.
-struct PointwiseActivation {
-  float inputSlope = 1.0f;
-  const Tensor* gate = nullptr;
-  float gateSlope = 1.0f;
-};
+// inputSlope != 1 reads x through leaky ReLU with that negative slope (ConvParams::inputSlope).
 void pointwise(Stream& stream, const Tensor& x, const Tensor& packedWeights, const Tensor* bias, const Tensor& y,
-               const PointwiseBlocking& blocking, const PointwiseActivation& activation = {});
+               const PointwiseBlocking& blocking, float inputSlope = 1.0f, const OutputTerms& terms = {});
 // dw [K, C] (any shape of K*C elements) = sum over n, p of g[n, k, p] f(x[n, c, p]), f leaky ReLU with
 // inputSlope (1: f(v) = v), for x [N, C, P], g [N, K, P].
 void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const Tensor& dw, float inputSlope = 1.0f);

@@ -2,11 +2,12 @@
 // Direct convolution over a zero-padded input with packed weights: the one kernel behind conv forward,
 // conv backward-input and transposed conv (nets/ops/conv.cpp, docs/convolution.md).
 //
-//   y[n, k, Z, Y, X] = gate(n, k, Z, Y, X) * (bias[k] + sum_{c<C} sum_{r<KD, s<KH, t<KW}
+//   y[n, k, Z, Y, X] = a[n, k, Z, Y, X] + gate(n, k, Z, Y, X) * (bias[k] + sum_{c<C} sum_{r<KD, s<KH, t<KW}
 //                        wp[c, r, s, t, k] * xp[n, c, oz*STRIDE + r, oy*STRIDE + s, ox*STRIDE + t])
 //   (Z, Y, X) = (oz*outStepZ, oy*outStepY, ox*outStepX) + outBase,   (oz, oy, ox) < (gridD, gridH, gridW)
 //   gate = u[n, k, Z, Y, X] > 0 ? 1 : gateSlope when GATE, else 1: the backward-input pass of a convolution
-//   that reads its input u through leaky ReLU (u has y's shape), multiplied by the activation's derivative.
+//   that reads its input u through leaky ReLU (u has y's shape), multiplied by the activation's derivative;
+//   a = the addend, a tensor of y's shape when ADDEND (a residual connection added as y is written), else 0.
 //
 // n batch, c input channel, k output channel, (r, s, t) tap, (oz, oy, ox) grid position. xp is the
 // padded input [N, C, Dp, Hp, Wp] read from element inBase on; wp holds the taps as
@@ -31,6 +32,7 @@ layout(constant_id = 8) const int CHANNEL_VEC4S = 2;
 layout(constant_id = 9) const bool HAS_BIAS = false;
 layout(constant_id = 10) const bool ALIGNED_ROWS = false;
 layout(constant_id = 11) const bool GATE = false;
+layout(constant_id = 12) const bool ADDEND = false;
 
 const int SPAN = (PIXELS - 1) * STRIDE + KW;
 const int SPAN_VEC4S = (SPAN + 3) / 4;
@@ -40,7 +42,8 @@ layout(binding = 1) uniform samplerBuffer xp4;
 layout(binding = 2) uniform samplerBuffer wp;
 layout(binding = 3) uniform samplerBuffer bias;
 layout(binding = 4) uniform samplerBuffer gate;  // u, read when GATE
-layout(std430, binding = 5) writeonly buffer Output { float y[]; };
+layout(binding = 5) uniform samplerBuffer addend;  // read when ADDEND
+layout(std430, binding = 6) writeonly buffer Output { float y[]; };
 layout(push_constant) uniform Push {
   int channels;     // C
   int inPlane;      // Dp*Hp*Wp
@@ -114,8 +117,10 @@ void main() {
         const int k = (kBlock * CHANNEL_VEC4S + q) * 4 + lane;
         if (ox >= gridW || k >= outChannels) continue;
         const int index = outRow + k * outPlane + ox * outStepX;
-        const float value = acc[p][q][lane];
-        y[index] = GATE && !(texelFetch(gate, index).x > 0.0) ? gateSlope * value : value;
+        float value = acc[p][q][lane];
+        if (GATE && !(texelFetch(gate, index).x > 0.0)) value = gateSlope * value;
+        if (ADDEND) value = texelFetch(addend, index).x + value;
+        y[index] = value;
       }
     }
   }

@@ -2,8 +2,10 @@
 // Pointwise (1x1, stride 1, no padding) convolution with packed weights: conv forward of a 1^d kernel and
 // its backward-input pass (nets/ops/conv.cpp, docs/convolution.md):
 //
-//   y[n, k, p] = gate(n, k, p) * (bias[k] + sum_{c<C} wp[c, k] * f(x[n, c, p]))      p < P (flat positions)
+//   y[n, k, p] = a[n, k, p] + gate(n, k, p) * (bias[k] + sum_{c<C} wp[c, k] * f(x[n, c, p]))      p < P
 //
+// p the flattened positions; a the addend, a tensor of y's shape when ADDEND (a residual connection added
+// as the output is written), else 0.
 // f(v) = v > 0 ? v : inputSlope v when INPUT_ACTIVATION (the forward pass of a convolution that reads its
 // input through leaky ReLU), else v; gate(n, k, p) = u[n, k, p] > 0 ? 1 : gateSlope when GATE (the
 // backward-input pass of such a convolution: the leaky ReLU's derivative at its forward input u), else 1.
@@ -22,6 +24,7 @@ layout(constant_id = 4) const int CHANNELS = 8;
 layout(constant_id = 5) const bool HAS_BIAS = false;
 layout(constant_id = 6) const bool INPUT_ACTIVATION = false;
 layout(constant_id = 7) const bool GATE = false;
+layout(constant_id = 8) const bool ADDEND = false;
 
 const int CHANNEL_VEC4S = (CHANNELS + 3) / 4;
 
@@ -29,7 +32,8 @@ layout(binding = 0) uniform samplerBuffer x4;
 layout(binding = 1) uniform samplerBuffer wp;
 layout(binding = 2) uniform samplerBuffer bias;
 layout(binding = 3) uniform samplerBuffer gate4;  // [N, K, P] as vec4s, read when GATE
-layout(std430, binding = 4) writeonly buffer Output { vec4 y4[]; };
+layout(binding = 4) uniform samplerBuffer addend4;  // [N, K, P] as vec4s, read when ADDEND
+layout(std430, binding = 5) writeonly buffer Output { vec4 y4[]; };
 layout(push_constant) uniform Push {
   int channels;     // C
   int planeVec4s;   // P / 4
@@ -78,6 +82,7 @@ void main() {
       const int index = outBase + k * planeVec4s + first + v;
       vec4 value = acc[k][v];
       if (GATE) value = mix(gateSlope * value, value, greaterThan(texelFetch(gate4, index), vec4(0.0)));
+      if (ADDEND) value = texelFetch(addend4, index) + value;
       y4[index] = value;
     }
   }

@@ -15,6 +15,10 @@ namespace {
 
 using ConvFunction = Var (*)(Tape&, const Var&, const Var&, const Var&, const ops::ConvParams&);
 
+// The convolutions without an addend.
+Var conv2dOf(Tape& t, const Var& x, const Var& w, const Var& b, const ops::ConvParams& p) { return fn::conv2d(t, x, w, b, p); }
+Var conv3dOf(Tape& t, const Var& x, const Var& w, const Var& b, const ops::ConvParams& p) { return fn::conv3d(t, x, w, b, p); }
+
 struct WrapperCase {
   const char* op;
   ConvFunction function;
@@ -68,7 +72,9 @@ TEST_P(ConvFunctionalTest, RegisteredOpRunsTheWrapper) {
   const WrapperCase& c = GetParam();
   const OpSpec& spec = findOp(c.op);
   EXPECT_EQ(spec.inputs, (std::vector<std::string>{"x", "w"}));
-  EXPECT_EQ(spec.optionalInputs, (std::vector<std::string>{"b"}));
+  const std::vector<std::string> optional = c.transposed ? std::vector<std::string>{"b"}
+                                                         : std::vector<std::string>{"b", "addend"};
+  EXPECT_EQ(spec.optionalInputs, optional);
   std::map<std::string, std::string> attrs{{"stride", std::to_string(c.params.stride)},
                                            {"padding", std::to_string(c.params.padding)}};
   if (c.transposed) attrs["output_padding"] = std::to_string(c.params.outputPadding);
@@ -85,8 +91,8 @@ TEST_P(ConvFunctionalTest, RegisteredOpRunsTheWrapper) {
 
 INSTANTIATE_TEST_SUITE_P(
     Wrappers, ConvFunctionalTest,
-    ::testing::Values(WrapperCase{"conv2d", fn::conv2d, false, {2, 3, 7, 9}, {5, 3, 3, 3}, {2, 1}},
-                      WrapperCase{"conv3d", fn::conv3d, false, {1, 3, 5, 6, 7}, {4, 3, 3, 3, 3}, {1, 1}},
+    ::testing::Values(WrapperCase{"conv2d", conv2dOf, false, {2, 3, 7, 9}, {5, 3, 3, 3}, {2, 1}},
+                      WrapperCase{"conv3d", conv3dOf, false, {1, 3, 5, 6, 7}, {4, 3, 3, 3, 3}, {1, 1}},
                       WrapperCase{"conv_transpose2d", fn::convTranspose2d, true, {2, 3, 4, 5}, {3, 5, 3, 3}, {2, 1, 1}},
                       WrapperCase{"conv_transpose3d", fn::convTranspose3d, true, {1, 4, 3, 4, 3}, {4, 3, 2, 2, 2}, {2, 0}}),
     [](const ::testing::TestParamInfo<WrapperCase>& param) { return std::string(param.param.op); });

@@ -243,35 +243,39 @@ TEST_F(ConvTest, PointwiseBackwardLargerShapesWithTails) {
 }
 
 // A convolution that reads its input through leaky ReLU (ConvParams::inputSlope), pointwise and direct, against
-// the references run on the activated input: forward, weight gradient, and the input gradient, which is the
-// plain one times the activation's derivative at x.
-TEST_F(ConvTest, InputThroughLeakyReluMatchesTheReferenceOnTheActivatedInput) {
+// the references run on the activated input: forward (also with an addend, convForwardPlus), weight gradient,
+// and the input gradient, which is the plain one times the activation's derivative at x.
+TEST_F(ConvTest, InputThroughLeakyReluAndAddendMatchTheReferenceOnTheActivatedInput) {
   constexpr double kSlope = 0.2;
   for (const Case& c : {Case{{2, 5, 3, 4, 5}, {7, 5, 1, 1, 1}, {1, 0}, true}, Case{{1, 3, 5, 6, 7}, {4, 3, 3, 3, 3}, {1, 1}, true},
                         Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {2, 1}, true}, Case{{2, 9, 6, 6}, {3, 9, 1, 1}, {1, 0}, true}}) {
     const Operand x = operand(context(), c.x, 13), w = operand(context(), c.w, 14), b = operand(context(), {c.w[0]}, 15);
     const Shape yShape = referenceConvOutputShape(c.x, c.w, c.spec);
-    const Operand dy = operand(context(), yShape, 16);
+    const Operand dy = operand(context(), yShape, 16), addend = operand(context(), yShape, 17);
     std::vector<double> activated = x.values;
     for (double& v : activated) v = v > 0 ? v : kSlope * v;
     ConvSpec back = c.spec;
     back.outputPadding = static_cast<int>(c.x.back() - referenceConvTransposeOutputShape(yShape, c.w, c.spec).back());
     const std::vector<double> expectedY = convReference(activated, c.x, w.values, c.w, b.values, c.spec);
+    std::vector<double> expectedSum = expectedY;
+    for (std::size_t i = 0; i < expectedSum.size(); ++i) expectedSum[i] += addend.values[i];
     const std::vector<double> expectedDw = convWeightGradReference(activated, c.x, dy.values, c.w, c.spec);
     std::vector<double> expectedDx = convTransposeReference(dy.values, yShape, w.values, c.w, {}, back);
     for (std::size_t i = 0; i < expectedDx.size(); ++i) expectedDx[i] *= x.values[i] > 0 ? 1.0 : kSlope;
 
     ops::ConvParams through = params(c.spec);
     through.inputSlope = static_cast<float>(kSlope);
-    Tensor y = poisonedTensor(context(), yShape);
+    Tensor y = poisonedTensor(context(), yShape), sum = poisonedTensor(context(), yShape);
     Tensor dx = poisonedTensor(context(), c.x);
     Tensor dw = poisonedTensor(context(), c.w);
     Stream stream(context());
     ops::convForward(stream, x.tensor, w.tensor, &b.tensor, through, y);
+    ops::convForwardPlus(stream, x.tensor, w.tensor, &b.tensor, addend.tensor, through, sum);
     ops::convBackwardActivatedInput(stream, dy.tensor, w.tensor, x.tensor, through, dx);
     ops::convBackwardWeight(stream, x.tensor, dy.tensor, through, dw);
     stream.submit();
     EXPECT_TRUE(allClose(y, expectedY, kTolerance)) << "forward, " << describe(c);
+    EXPECT_TRUE(allClose(sum, expectedSum, kTolerance)) << "forward plus an addend, " << describe(c);
     EXPECT_TRUE(allClose(dx, expectedDx, kTolerance)) << "input gradient, " << describe(c);
     EXPECT_TRUE(allClose(dw, expectedDw, kTolerance)) << "weight gradient, " << describe(c);
     // The plain input gradient and the transposed convolutions have no input activation to apply.
