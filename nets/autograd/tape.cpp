@@ -40,6 +40,14 @@ void Tape::accumulate(const Var& input, const Tensor& gradient) {
   input->grad = sum;
 }
 
+void Tape::accumulateWriting(const Var& input,
+                             const std::function<void(const Tensor* sofar, const Tensor& sum)>& write) {
+  if (!input || !input->requiresGrad) return;
+  Tensor sum(context(), input->value.shape());
+  write(input->grad.defined() ? &input->grad : nullptr, sum);
+  input->grad = sum;
+}
+
 void Tape::backward(const Var& loss) {
   Tensor ones(context(), loss->value.shape());
   ops::fill(stream_, ones, 1.0f);

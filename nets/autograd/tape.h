@@ -36,6 +36,10 @@ class Tape {
   // Inside a backward closure: input->grad += gradient; nothing if the input needs no gradient. The
   // given tensor is never written: it becomes the gradient, or a fresh sum replaces the gradient.
   void accumulate(const Var& input, const Tensor& gradient);
+  // Inside a backward closure: input->grad += this op's contribution, written by `write(sofar, sum)` into a
+  // fresh tensor `sum` of the input's shape as sofar + contribution (sofar: the gradient so far, nullptr if
+  // none), so a kernel adds it as it writes instead of a separate sum. Nothing if the input needs no gradient.
+  void accumulateWriting(const Var& input, const std::function<void(const Tensor* sofar, const Tensor& sum)>& write);
 
   // Runs recorded backwards in reverse order, seeding d loss / d loss = 1 everywhere in `loss`, and
   // forgets each op once its backward has run (the tape is empty afterwards).

@@ -32,13 +32,14 @@ Var convolution(Tape& tape, const Var& x, const Var& w, const Var& bias, const o
   tape.record({out}, [x, w, bias, addend, out, params, transposed](Tape& t) {
     const Tensor g = t.grad(out);
     if (addend && addend->requiresGrad) t.accumulate(addend, g);
-    if (x->requiresGrad) {
+    if (x->requiresGrad && transposed) {
       Tensor dx(t.context(), x->value.shape());
-      if (transposed)
-        ops::convTransposeBackwardInput(t.stream(), g, w->value, params, dx);
-      else
-        ops::convBackwardActivatedInput(t.stream(), g, w->value, x->value, params, dx);
+      ops::convTransposeBackwardInput(t.stream(), g, w->value, params, dx);
       t.accumulate(x, dx);
+    } else if (x->requiresGrad) {
+      t.accumulateWriting(x, [&](const Tensor* sofar, const Tensor& dx) {
+        ops::convBackwardActivatedInput(t.stream(), g, w->value, x->value, params, dx, sofar);
+      });
     }
     if (w->requiresGrad) {
       Tensor dw(t.context(), w->value.shape());

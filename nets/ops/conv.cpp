@@ -86,13 +86,12 @@ void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tenso
                {.addend = addend != nullptr ? &addend5 : nullptr});
 }
 
-// dx = d<dy, conv(x, w)>/dx (+ b): the transposed convolution, as stride^3 phases, each output multiplied by
-// the derivative of leaky ReLU (gateSlope) at `gate` when there is one. Phase (rz, ry, rx)
+// dx = d<dy, conv(x, w)>/dx (+ b): the transposed convolution, as stride^3 phases, with the output terms
+// (conv::OutputTerms: a gate, an addend) applied as each output is written. Phase (rz, ry, rx)
 // writes the outputs i = r + stride*j; each is a stride-1 direct convolution of the padded dy with a
 // flipped, sub-sampled, channel-transposed copy of w.
 void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const Tensor& w, const Tensor* bias,
-                const Tensor& dx, ConvBlocking blocking, const Tensor* gate = nullptr, float gateSlope = 1.0f) {
-  const conv::OutputTerms terms{.gate = gate, .gateSlope = gateSlope};
+                const Tensor& dx, ConvBlocking blocking, const conv::OutputTerms& terms = {}) {
   if (conv::isPointwise(g))
     return pointwise(stream, g, dy, w, bias, dx, blocking, true, 1.0f, terms);
   std::array<std::vector<conv::Phase>, 3> phases;
@@ -117,7 +116,11 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
   }
   const conv::Padded dyp = conv::pad(stream, conv::as5d(dy), low, size);
   const Tensor dx5 = conv::as5d(dx);
-  const Tensor gate5 = gate != nullptr ? conv::as5d(*gate) : Tensor();
+  const Tensor gate5 = terms.gate != nullptr ? conv::as5d(*terms.gate) : Tensor();
+  const Tensor addend5 = terms.addend != nullptr ? conv::as5d(*terms.addend) : Tensor();
+  const conv::OutputTerms terms5{.gate = terms.gate != nullptr ? &gate5 : nullptr,
+                                 .gateSlope = terms.gateSlope,
+                                 .addend = terms.addend != nullptr ? &addend5 : nullptr};
   const int64_t paddedK = conv::roundUp(g.inChannels, 4 * static_cast<int64_t>(channelVec4s));
 
   for (const conv::Phase& pz : phases[0]) {
@@ -145,8 +148,7 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
         pass.taps = packing.taps;
         if (!gathers) pass.taps = {0, 1, 1};  // no taps; keeps the kernel's row arrays non-empty
         const Tensor packed = conv::packWeights(stream, w, packing, paddedK);
-        conv::direct(stream, dyp, packed, bias, dx5, pass, pixels, channelVec4s,
-                     {.gate = gate != nullptr ? &gate5 : nullptr, .gateSlope = gateSlope});
+        conv::direct(stream, dyp, packed, bias, dx5, pass, pixels, channelVec4s, terms5);
       }
     }
   }
@@ -220,12 +222,14 @@ void convBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const 
 }
 
 void convBackwardActivatedInput(Stream& stream, const Tensor& dy, const Tensor& w, const Tensor& x,
-                                const ConvParams& params, const Tensor& dx, ConvBlocking blocking) {
+                                const ConvParams& params, const Tensor& dx, const Tensor* addend,
+                                ConvBlocking blocking) {
   const char* op = "conv backward activated input";
   const ConvGeometry g = conv::convGeometry(op, dx.shape(), w.shape(), params);
   conv::requireShape(op, "output gradient", dy.shape(), g.outputShape());
   conv::requireShape(op, "input", x.shape(), dx.shape());
-  transposed(stream, g, dy, w, nullptr, dx, blocking, &x, params.inputSlope);
+  if (addend != nullptr) conv::requireShape(op, "addend", addend->shape(), dx.shape());
+  transposed(stream, g, dy, w, nullptr, dx, blocking, {.gate = &x, .gateSlope = params.inputSlope, .addend = addend});
 }
 
 void convBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const ConvParams& params, const Tensor& dw,

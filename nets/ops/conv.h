@@ -44,10 +44,12 @@ void convForwardPlus(Stream& stream, const Tensor& x, const Tensor& w, const Ten
 // must be 1 (see convBackwardActivatedInput).
 void convBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const ConvParams& params,
                        const Tensor& dx, ConvBlocking blocking = {});
-// dx = d<dy, conv(f(x), w)>/dx = f'(x) * (the transposed convolution of dy), f the leaky ReLU of
-// params.inputSlope: the input gradient of a convolution that reads its input through it.
+// dx = addend + d<dy, conv(f(x), w)>/dx = addend + f'(x) * (the transposed convolution of dy), f the leaky ReLU
+// of params.inputSlope: the input gradient of a convolution that reads its input through it, added to the
+// gradient so far (`addend`, of x's shape; nullptr: 0) as it is written.
 void convBackwardActivatedInput(Stream& stream, const Tensor& dy, const Tensor& w, const Tensor& x,
-                                const ConvParams& params, const Tensor& dx, ConvBlocking blocking = {});
+                                const ConvParams& params, const Tensor& dx, const Tensor* addend = nullptr,
+                                ConvBlocking blocking = {});
 // dw = d<dy, conv(f(x), w)>/dw (f as in convForward)
 void convBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const ConvParams& params,
                         const Tensor& dw, ConvBlocking blocking = {});

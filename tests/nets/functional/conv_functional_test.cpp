@@ -5,6 +5,7 @@
 #include <ostream>
 
 #include "nets/functional/conv.h"
+#include "nets/ops/elementwise.h"
 #include "nets/op_registry.h"
 #include "tests/harness/compare.h"
 #include "tests/harness/gpu_test.h"
@@ -87,6 +88,33 @@ TEST_P(ConvFunctionalTest, RegisteredOpRunsTheWrapper) {
   stream.submit();
   ASSERT_EQ(outputs.size(), 1u);
   EXPECT_TRUE(allClose(outputs[0]->value, values(direct->value), {0, 0}));
+}
+
+// As in a bottleneck block: x read by a 3x3x3 convolution and a pointwise one, both through leaky ReLU, the first's
+// output added in the second's writes. x's gradient is the sum of the two convolutions' input gradients, the
+// second added as its kernel writes it (Tape::accumulateWriting): equal to the raw kernels' sum, bit for bit.
+class ConvFunctionalSumTest : public GpuTest {};
+
+TEST_F(ConvFunctionalSumTest, AnInputOfTwoConvolutionsGetsTheSumOfTheirGradients) {
+  Context& context = this->context();
+  const Shape xShape{1, 3, 4, 5, 6}, yShape{1, 4, 4, 5, 6};
+  Var x = variable(randomTensor(context, xShape, 21), true, "x");
+  Var w1 = variable(randomTensor(context, {4, 3, 3, 3, 3}, 22), true, "w1");
+  Var w2 = variable(randomTensor(context, {4, 3, 1, 1, 1}, 23), true, "w2");
+  Tensor upstream = randomTensor(context, yShape, 24);
+  ops::ConvParams p1{.padding = 1, .inputSlope = 0.2f}, p2{.inputSlope = 0.2f};
+
+  Stream stream(context);
+  Tape tape(stream);
+  Var y1 = fn::conv3d(tape, x, w1, nullptr, p1);
+  Var y2 = fn::conv3d(tape, x, w2, nullptr, p2, y1);
+  tape.backward({{y2, upstream}});
+  Tensor dx1(context, xShape), dx2(context, xShape), expected = poisonedTensor(context, xShape);
+  ops::convBackwardActivatedInput(stream, upstream, w1->value, x->value, p1, dx1);
+  ops::convBackwardActivatedInput(stream, upstream, w2->value, x->value, p2, dx2);
+  ops::add(stream, dx2, dx1, expected);
+  stream.submit();
+  EXPECT_TRUE(allClose(x->grad, values(expected), {0, 0}));
 }
 
 INSTANTIATE_TEST_SUITE_P(
