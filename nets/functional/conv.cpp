@@ -149,15 +149,18 @@ OpSpec withExamples(OpSpec spec, std::vector<OpExample> examples) {
 
 const bool registered =
     registerOp(withExamples(
-        convSpec("conv2d", "y = addend + conv2d(f(x), w) + b; x [N,C,H,W], w [K,C,kH,kW], b [K], addend as y", conv2d, false),
+        convSpec("conv2d", "y = addend + conv2d(f(x), w) + b; x [N,C,H,W], w [K,C,kH,kW], b [K], addend as y",
+                 conv2d, false),
         {convExample("3x3, padding 1, bias", {2, 3, 7, 6}, {5, 3, 3, 3}, 5, true, {{"padding", "1"}}),
          convExample("2x3, stride 2, no bias", {1, 2, 9, 8}, {4, 2, 2, 3}, 4, false, {{"stride", "2"}}),
          convExample("1x1", {2, 5, 3, 4}, {3, 5, 1, 1}, 3, true, {}),
-         activatedConvExample("1x1 through leaky ReLU, plus an addend", {2, 5, 3, 4}, {3, 5, 1, 1}, 3, {}, {2, 3, 3, 4}),
+         activatedConvExample("1x1 through leaky ReLU, plus an addend", {2, 5, 3, 4}, {3, 5, 1, 1}, 3, {},
+                              {2, 3, 3, 4}),
          activatedConvExample("3x3 through leaky ReLU, padding 1", {2, 3, 5, 6}, {4, 3, 3, 3}, 4,
                               {{"padding", "1"}})})) &&
     registerOp(withExamples(
-        convSpec("conv3d", "y = addend + conv3d(f(x), w) + b; x [N,C,D,H,W], w [K,C,kD,kH,kW], b [K], addend as y", conv3d, false),
+        convSpec("conv3d", "y = addend + conv3d(f(x), w) + b; x [N,C,D,H,W], w [K,C,kD,kH,kW], b [K], addend as y",
+                 conv3d, false),
         {convExample("3x3x3, stride 2, padding 1, bias", {1, 2, 5, 6, 7}, {3, 2, 3, 3, 3}, 3, true,
                      {{"stride", "2"}, {"padding", "1"}}),
          convExample("3x3x3, padding 1, 8 channels", {1, 3, 3, 4, 5}, {8, 3, 3, 3, 3}, 8, false, {{"padding", "1"}}),

@@ -17,8 +17,12 @@ namespace {
 using ConvFunction = Var (*)(Tape&, const Var&, const Var&, const Var&, const ops::ConvParams&);
 
 // The convolutions without an addend.
-Var conv2dOf(Tape& t, const Var& x, const Var& w, const Var& b, const ops::ConvParams& p) { return fn::conv2d(t, x, w, b, p); }
-Var conv3dOf(Tape& t, const Var& x, const Var& w, const Var& b, const ops::ConvParams& p) { return fn::conv3d(t, x, w, b, p); }
+Var conv2dOf(Tape& t, const Var& x, const Var& w, const Var& b, const ops::ConvParams& p) {
+  return fn::conv2d(t, x, w, b, p);
+}
+Var conv3dOf(Tape& t, const Var& x, const Var& w, const Var& b, const ops::ConvParams& p) {
+  return fn::conv3d(t, x, w, b, p);
+}
 
 struct WrapperCase {
   const char* op;
