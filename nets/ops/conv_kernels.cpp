@@ -59,13 +59,6 @@ void sumPartials(Stream& stream, const Tensor& partial, int64_t parts, const Ten
                       static_cast<uint64_t>(out.numel()));
 }
 
-// A tensor read element for element beside the output y (a gate or an addend): as many elements as y.
-void requireSameElements(const char* op, const char* what, const Tensor& tensor, const Tensor& y) {
-  if (tensor.numel() != y.numel())
-    throw Error(std::string(op) + ": " + what + " " + toString(tensor.shape()) + " must have the output's " +
-                std::to_string(y.numel()) + " elements " + toString(y.shape()));
-}
-
 void requireBlocking(const ConvBlocking& requested) {
   if (requested.pixels < 0 || requested.pixels > 16)
     throw Error("conv: blocking of " + std::to_string(requested.pixels) + " pixels, expected 1..16 (0: automatic)");
@@ -150,7 +143,7 @@ void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const
   const Shape& out = y5.shape();
   const bool gates = terms.gate != nullptr && terms.gateSlope != 1.0f;
   for (const auto& [what, tensor] : {std::pair{"gate", terms.gate}, std::pair{"addend", terms.addend}})
-    if (tensor != nullptr) requireSameElements("direct convolution", what, *tensor, y5);
+    if (tensor != nullptr) requireShape("direct convolution", what, tensor->shape(), out);
   const int64_t xBlocks = (pass.grid[2] + pixels - 1) / pixels;
   const int64_t items = xBlocks * pass.grid[1] * pass.grid[0];
   const int64_t channelBlock = 4 * channelVec4s;
@@ -260,7 +253,7 @@ void pointwise(Stream& stream, const Tensor& x, const Tensor& packedWeights, con
   const int64_t kBlocks = (y.size(1) + blocking.channels - 1) / blocking.channels;
   const int64_t items = (planeVec4s + blocking.positionVec4s - 1) / blocking.positionVec4s;
   for (const auto& [what, tensor] : {std::pair{"gate", terms.gate}, std::pair{"addend", terms.addend}})
-    if (tensor != nullptr) requireSameElements("pointwise convolution", what, *tensor, y);
+    if (tensor != nullptr) requireShape("pointwise convolution", what, tensor->shape(), y.shape());
   struct {
     int32_t channels, planeVec4s, outChannels, weightRow;
     float inputSlope, gateSlope;

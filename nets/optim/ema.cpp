@@ -27,12 +27,7 @@ void Ema::update(Stream& stream) const {
     if (!layout_.gathered(i)) record(shadows_.alone[i], values_[i], values_[i].numel());
 }
 
-void Ema::copyToParameters(Stream& stream) const {
-  const FlatParts parts = flatParts(layout_, values_);
-  stream.scatter(shadows_.flat, parts.offsets, parts.tensors);
-  for (std::size_t i = 0; i < values_.size(); ++i)
-    if (!layout_.gathered(i)) stream.copy(shadows_.alone[i], values_[i]);
-}
+void Ema::copyToParameters(Stream& stream) const { recordCopyOut(stream, shadows_, layout_, values_); }
 
 std::vector<std::pair<std::string, Tensor>> Ema::namedShadows() const {
   std::vector<std::pair<std::string, Tensor>> like;

@@ -38,30 +38,37 @@ FlatState zeroState(Context& context, const FlatLayout& layout, std::span<const 
   return state;
 }
 
+void recordCopyOut(Stream& stream, const FlatState& state, const FlatLayout& layout, std::span<const Tensor> to) {
+  const FlatParts parts = flatParts(layout, to);
+  stream.scatter(state.flat, parts.offsets, parts.tensors);
+  for (std::size_t i = 0; i < to.size(); ++i)
+    if (!layout.gathered(i)) stream.copy(state.alone[i], to[i]);
+}
+
+void recordCopyIn(Stream& stream, std::span<const Tensor> from, const FlatState& state, const FlatLayout& layout) {
+  const FlatParts parts = flatParts(layout, from);
+  stream.gather(parts.tensors, parts.offsets, state.flat);
+  for (std::size_t i = 0; i < from.size(); ++i)
+    if (!layout.gathered(i)) stream.copy(from[i], state.alone[i]);
+}
+
 std::vector<std::pair<std::string, Tensor>> copyState(const FlatState& state, const FlatLayout& layout,
                                                       const std::vector<std::pair<std::string, Tensor>>& like) {
-  const Tensor& flat = state.flat;
   std::vector<std::pair<std::string, Tensor>> named;
   std::vector<Tensor> copies;
   for (const auto& [name, tensor] : like) {
-    copies.emplace_back(flat.context(), tensor.shape());
+    copies.emplace_back(state.flat.context(), tensor.shape());
     named.emplace_back(name, copies.back());
   }
-  Stream copy(flat.context());
-  const FlatParts parts = flatParts(layout, copies);
-  copy.scatter(flat, parts.offsets, parts.tensors);
-  for (std::size_t i = 0; i < copies.size(); ++i)
-    if (!layout.gathered(i)) copy.copy(state.alone[i], copies[i]);
+  Stream copy(state.flat.context());
+  recordCopyOut(copy, state, layout, copies);
   copy.submit();
   return named;
 }
 
 void restoreState(std::span<const Tensor> from, const FlatState& state, const FlatLayout& layout) {
   Stream restore(state.flat.context());
-  const FlatParts parts = flatParts(layout, from);
-  restore.gather(parts.tensors, parts.offsets, state.flat);
-  for (std::size_t i = 0; i < from.size(); ++i)
-    if (!layout.gathered(i)) restore.copy(from[i], state.alone[i]);
+  recordCopyIn(restore, from, state, layout);
   restore.submit();
 }
 

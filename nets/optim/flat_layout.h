@@ -63,6 +63,9 @@ struct FlatState {
 
 // All zero, shaped like `tensors` (laid out by `layout`).
 FlatState zeroState(Context& context, const FlatLayout& layout, std::span<const Tensor> tensors);
+// Records copying the state out into `to` (one tensor per tensor of the layout, in order), or in from `from`.
+void recordCopyOut(Stream& stream, const FlatState& state, const FlatLayout& layout, std::span<const Tensor> to);
+void recordCopyIn(Stream& stream, std::span<const Tensor> from, const FlatState& state, const FlatLayout& layout);
 // Named copies of the state per tensor; names and shapes from `like` (in the layout's order).
 std::vector<std::pair<std::string, Tensor>> copyState(const FlatState& state, const FlatLayout& layout,
                                                       const std::vector<std::pair<std::string, Tensor>>& like);
