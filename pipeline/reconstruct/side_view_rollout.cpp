@@ -38,6 +38,7 @@ double RolloutResult::mirroredLastTen() const {
 nlohmann::json RolloutResult::toJson() const {
   return {{"scenes", scenes},
           {"history", trueHistory ? "truth" : "own"},
+          {"first_frame", firstFrame},
           {"frames", psnr.size()},
           {"psnr_mean", mean()},
           {"psnr_mirrored_front_mean", mirroredMean()},
@@ -53,18 +54,20 @@ nlohmann::json RolloutResult::toJson() const {
           {"psnr_previous_true_side_per_frame_from_1", previous}};
 }
 
-RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int frames,
-                              int scenes, const SideViewOptions& options, RolloutHistory history, bool progress) {
+RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int firstFrame,
+                              int frames, int scenes, const SideViewOptions& options, RolloutHistory history, bool progress) {
   const Preset& preset = data.preset();
   std::vector<const dataset::SceneEntry*> rolled;  // the first `scenes` validation scenes with enough frames
   for (const dataset::SceneEntry& scene : data.validation())
-    if (scene.frames >= frames && static_cast<int>(rolled.size()) < scenes) rolled.push_back(&scene);
+    if (scene.frames >= firstFrame + frames && static_cast<int>(rolled.size()) < scenes) rolled.push_back(&scene);
   if (rolled.empty())
-    throw Error(data.root().string() + ": no validation scene has the " + std::to_string(frames) + " frames of the rollout");
+    throw Error(data.root().string() + ": no validation scene has the " + std::to_string(firstFrame + frames) +
+                " frames of a rollout of " + std::to_string(frames) + " frames from frame " + std::to_string(firstFrame));
   const auto rolledScenes = static_cast<int64_t>(rolled.size());
   Progress bar(rolledScenes * frames, 0, frames, !progress);  // off a terminal, a line per scene
   RolloutResult result;
   result.trueHistory = history == RolloutHistory::Truth;
+  result.firstFrame = firstFrame;
   result.psnr.assign(static_cast<std::size_t>(frames), 0.0);
   result.mirrored.assign(static_cast<std::size_t>(frames), 0.0);
   result.black.assign(static_cast<std::size_t>(frames), 0.0);
@@ -76,7 +79,7 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
     const render::RenderSettings look = data.look(scene);
     std::vector<media::Image> fronts, sides;
     for (int t = 0; t < frames; ++t) {
-      const auto images = render::renderImages(context, Tensor::fromHost(context, preset.grid.volume(), data.density(scene, t)),
+      const auto images = render::renderImages(context, Tensor::fromHost(context, preset.grid.volume(), data.density(scene, firstFrame + t)),
                                                frontSide, look);
       fronts.push_back(images[0]);
       sides.push_back(images[1]);

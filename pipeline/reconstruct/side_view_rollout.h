@@ -27,6 +27,7 @@ struct RolloutResult {
   std::vector<double> psnr, mirrored, black;  // per frame, mean over scenes
   std::vector<double> previous;  // per frame from frame 1: the true side view of the frame before, copied
   int scenes = 0;
+  int firstFrame = 0;  // the scene frame of the rollout's frame 0
   bool trueHistory = false;  // conditioned on the true side views of the previous frames
   double mean() const;
   double mirroredMean() const;
@@ -41,10 +42,12 @@ struct RolloutResult {
 
 enum class RolloutHistory { Own, Truth };
 
-// Rolls out `frames` frames on up to `scenes` validation scenes that have that many frames; with
+// Rolls out `frames` frames from scene frame `firstFrame` (0: from the start of the simulation; later: footage
+// that begins with smoke already in view, SvDiff-init starting on the frames there) on up to `scenes` validation
+// scenes that have firstFrame + frames frames; with
 // `progress`, a progress line over those scenes' frames on stderr (pipeline/progress.h).
-RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int frames,
-                              int scenes, const SideViewOptions& options, RolloutHistory history = RolloutHistory::Own,
+RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int firstFrame,
+                              int frames, int scenes, const SideViewOptions& options, RolloutHistory history = RolloutHistory::Own,
                               bool progress = false);
 
 }  // namespace smokesvd::reconstruct

@@ -16,7 +16,7 @@ namespace {
 
 struct RolloutArguments {
   std::string data, models, out, preset = "small";
-  int frames = 40, scenes = 6;
+  int firstFrame = 0, frames = 40, scenes = 6;
   reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start
   int validationEvery = 10;
   std::string history = "own";
@@ -29,6 +29,10 @@ void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& actio
   c->add_option("--data", a.data, "folder of simulated scenes (their validation split is used)")->required();
   c->add_option("--models", a.models, "folder of trained networks (default: the shipped models/<preset>)");
   c->add_option("--preset", a.preset, "tiny, small (default) or paper");
+  c->add_option("--first-frame", a.firstFrame,
+                "scene frame the rollout starts on (default 0, the start of the simulation; later: footage that begins "
+                "with smoke in view)")
+      ->check(wholeNumber(0, sim::kMaxFrames - 1));
   c->add_option("--frames", a.frames, "frames of the rollout (default 40)")->check(wholeNumber(1, sim::kMaxFrames));
   c->add_option("--scenes", a.scenes, "validation scenes to roll out (default 6)")->check(wholeNumber(1, 100000));
   c->add_option("--validation-every", a.validationEvery, "the dataset's split: every N-th scene is held out (default 10)")
@@ -49,10 +53,10 @@ void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& actio
       Context context(global.contextOptions());
       reconstruct::MethodModels models(context, a.models.empty() ? reconstruct::defaultModelsFolder(a.preset) : std::filesystem::path(a.models), p);
       const reconstruct::RolloutResult r =
-          reconstruct::sideViewRollout(context, models, data, a.frames, a.scenes, a.sampling,
+          reconstruct::sideViewRollout(context, models, data, a.firstFrame, a.frames, a.scenes, a.sampling,
                                        a.history == "truth" ? reconstruct::RolloutHistory::Truth : reconstruct::RolloutHistory::Own,
                                        !a.quiet);
-      std::cout << (r.trueHistory ? "side views from true history" : "side views") << " over " << a.frames << " frames of " << r.scenes << " held-out scenes: PSNR " << r.mean()
+      std::cout << (r.trueHistory ? "side views from true history" : "side views") << " over " << a.frames << " frames from frame " << a.firstFrame << " of " << r.scenes << " held-out scenes: PSNR " << r.mean()
                 << " dB (mirrored front view " << r.mirroredMean() << " dB, all-black " << r.blackMean()
                 << " dB); first 10 frames " << r.firstTen() << " dB (mirrored " << r.mirroredFirstTen() << "), last 10 "
                 << r.lastTen() << " dB (mirrored " << r.mirroredLastTen() << "); the previous frame's true side view, copied, "

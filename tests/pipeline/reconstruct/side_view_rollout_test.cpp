@@ -40,7 +40,7 @@ TEST_F(SideViewRolloutTest, GivesEveryFrameBesideTheMirroredFrontViewAndTheBlack
   const dataset::SceneDataset data = tinyData();
   reconstruct::MethodModels models(context(), tinyModels(), preset("tiny"));
   const reconstruct::SideViewOptions options = fewSteps(100);
-  const reconstruct::RolloutResult a = reconstruct::sideViewRollout(context(), models, data, 6, 1, options);
+  const reconstruct::RolloutResult a = reconstruct::sideViewRollout(context(), models, data, 0, 6, 1, options);
   ASSERT_EQ(a.scenes, 1);
   for (const auto* figures : {&a.psnr, &a.mirrored, &a.black}) {
     ASSERT_EQ(figures->size(), 6u);
@@ -57,14 +57,39 @@ TEST_F(SideViewRolloutTest, GivesEveryFrameBesideTheMirroredFrontViewAndTheBlack
                           "psnr_previous_true_side_mean"})
     EXPECT_TRUE(json.contains(key)) << key;
   // A seed gives the same rollout.
-  const reconstruct::RolloutResult b = reconstruct::sideViewRollout(context(), models, data, 6, 1, options);
+  const reconstruct::RolloutResult b = reconstruct::sideViewRollout(context(), models, data, 0, 6, 1, options);
   EXPECT_EQ(a.psnr, b.psnr);
   // A rollout longer than every held-out scene is refused with the folder named.
   try {
-    reconstruct::sideViewRollout(context(), models, data, 9, 1, options);
+    reconstruct::sideViewRollout(context(), models, data, 0, 9, 1, options);
     FAIL() << "a 9-frame rollout of 8-frame scenes was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no validation scene has the 9 frames"), std::string::npos) << e.what();
+  }
+}
+
+// A rollout from a later frame covers the scene's frames from there: the baselines, which depend on the frame
+// alone, are those frames' figures of a rollout from the start; one that would pass the scene's end is refused.
+TEST_F(SideViewRolloutTest, FromALaterFrameCoversTheScenesFramesFromThere) {
+  const dataset::SceneDataset data = tinyData();
+  reconstruct::MethodModels models(context(), tinyModels(), preset("tiny"));
+  const reconstruct::SideViewOptions options = fewSteps(100);
+  const reconstruct::RolloutResult start = reconstruct::sideViewRollout(context(), models, data, 0, 6, 1, options);
+  const reconstruct::RolloutResult later = reconstruct::sideViewRollout(context(), models, data, 2, 4, 1, options);
+  ASSERT_EQ(later.psnr.size(), 4u);
+  EXPECT_EQ(later.toJson().at("first_frame"), 2);
+  for (std::size_t t = 0; t < 4; ++t) {
+    EXPECT_EQ(later.mirrored[t], start.mirrored[t + 2]) << "frame " << t;
+    EXPECT_EQ(later.black[t], start.black[t + 2]) << "frame " << t;
+  }
+  for (std::size_t t = 1; t < 4; ++t) EXPECT_EQ(later.previous[t - 1], start.previous[t + 1]) << "frame " << t;
+  try {
+    reconstruct::sideViewRollout(context(), models, data, 3, 6, 1, options);
+    FAIL() << "a 6-frame rollout from frame 3 of 8-frame scenes was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no validation scene has the 9 frames of a rollout of 6 frames from frame 3"),
+              std::string::npos)
+        << e.what();
   }
 }
 
@@ -74,9 +99,9 @@ TEST_F(SideViewRolloutTest, WithTrueHistoryOnlyTheFramesThatHaveHistoryChange) {
   const dataset::SceneDataset data = tinyData();
   reconstruct::MethodModels models(context(), tinyModels(), preset("tiny"));
   const reconstruct::SideViewOptions options = fewSteps(100);
-  const reconstruct::RolloutResult own = reconstruct::sideViewRollout(context(), models, data, 5, 1, options);
+  const reconstruct::RolloutResult own = reconstruct::sideViewRollout(context(), models, data, 0, 5, 1, options);
   const reconstruct::RolloutResult truth =
-      reconstruct::sideViewRollout(context(), models, data, 5, 1, options, reconstruct::RolloutHistory::Truth);
+      reconstruct::sideViewRollout(context(), models, data, 0, 5, 1, options, reconstruct::RolloutHistory::Truth);
   EXPECT_FALSE(own.trueHistory);
   EXPECT_TRUE(truth.trueHistory);
   EXPECT_EQ(truth.toJson().at("history"), "truth");
@@ -114,7 +139,7 @@ TEST_F(SideViewRolloutTest, AVPredictingSynthesizerSamplesFromPureNoise) {
   EXPECT_EQ(loaded.sideView->prediction(), diffusion::Prediction::Velocity);
   EXPECT_EQ(loaded.sideViewInit->prediction(), diffusion::Prediction::Velocity);
   const reconstruct::SideViewOptions options = fewSteps(-1);
-  const reconstruct::RolloutResult r = reconstruct::sideViewRollout(context(), loaded, data, 4, 1, options);
+  const reconstruct::RolloutResult r = reconstruct::sideViewRollout(context(), loaded, data, 0, 4, 1, options);
   for (const double v : r.psnr) EXPECT_TRUE(std::isfinite(v)) << v;
 }
 
