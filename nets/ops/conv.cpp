@@ -35,14 +35,17 @@ void requireNoInputActivation(const char* op, const ConvParams& params) {
                 "convBackwardActivatedInput)");
 }
 
-// y = wp^T x + b (pointwise) or dx = w^T dy (its backward input, `transposedWeights`): pack w as [C, K]
-// (or [K, C]), one pointwise pass over the unpadded tensors.
+// y = wp^T x + b (pointwise) or dx = w^T dy (its backward input, `transposedWeights`): pack w as [C, K],
+// one pointwise pass over the unpadded tensors. The backward input reads w [K, C] in place where C is a
+// multiple of 4, and packs it otherwise.
 void pointwise(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& w, const Tensor* bias,
                const Tensor& y, ConvBlocking blocking, bool transposedWeights, float inputSlope = 1.0f,
                const conv::OutputTerms& terms = {}) {
   const int64_t in = transposedWeights ? g.outChannels : g.inChannels;
   const int64_t out = transposedWeights ? g.inChannels : g.outChannels;
   const conv::PointwiseBlocking chosen = conv::pointwiseBlocking(stream.context().info(), blocking, out);
+  if (transposedWeights && out % 4 == 0)
+    return conv::pointwise(stream, x, w, out, bias, y, chosen, inputSlope, terms);
   conv::WeightPacking packing;
   packing.outChannels = out;
   packing.inChannels = in;
@@ -50,8 +53,8 @@ void pointwise(Stream& stream, const ConvGeometry& g, const Tensor& x, const Ten
   packing.strideC = transposedWeights ? g.inChannels : 1;
   packing.sourceKernel = {1, 1, 1};
   packing.taps = {1, 1, 1};
-  const Tensor packed = conv::packWeights(stream, w, packing, conv::pointwisePaddedK(chosen, out));
-  conv::pointwise(stream, x, packed, bias, y, chosen, inputSlope, terms);
+  const int64_t rowK = conv::pointwisePaddedK(chosen, out);
+  conv::pointwise(stream, x, conv::packWeights(stream, w, packing, rowK), rowK, bias, y, chosen, inputSlope, terms);
 }
 
 // y = addend + conv(f(x), w) + b (no addend: 0): pad f(x), pack w as [C, k..., K], one direct pass with

@@ -247,8 +247,12 @@ int64_t pointwisePaddedK(const PointwiseBlocking& blocking, int64_t outChannels)
   return roundUp(outChannels, roundUp(blocking.channels, 4));
 }
 
-void pointwise(Stream& stream, const Tensor& x, const Tensor& packedWeights, const Tensor* bias, const Tensor& y,
-               const PointwiseBlocking& blocking, float inputSlope, const OutputTerms& terms) {
+void pointwise(Stream& stream, const Tensor& x, const Tensor& weights, int64_t rowK, const Tensor* bias,
+               const Tensor& y, const PointwiseBlocking& blocking, float inputSlope, const OutputTerms& terms) {
+  if (rowK % 4 != 0 || rowK < y.size(1) || weights.numel() < x.size(1) * rowK)
+    throw Error("pointwise convolution: weights of " + std::to_string(weights.numel()) + " elements in rows of " +
+                std::to_string(rowK) + ", expected rows of a multiple of 4 of at least " + std::to_string(y.size(1)) +
+                " for " + std::to_string(x.size(1)) + " input channels");
   const int64_t planeVec4s = y.numel() / (y.size(0) * y.size(1)) / 4;
   const int64_t kBlocks = (y.size(1) + blocking.channels - 1) / blocking.channels;
   const int64_t items = (planeVec4s + blocking.positionVec4s - 1) / blocking.positionVec4s;
@@ -257,16 +261,15 @@ void pointwise(Stream& stream, const Tensor& x, const Tensor& packedWeights, con
   struct {
     int32_t channels, planeVec4s, outChannels, weightRow;
     float inputSlope, gateSlope;
-  } push{i32(x.size(1)), i32(planeVec4s), i32(y.size(1)), i32(pointwisePaddedK(blocking, y.size(1)) / 4),
-         inputSlope, terms.gateSlope};
+  } push{i32(x.size(1)), i32(planeVec4s), i32(y.size(1)), i32(rowK / 4), inputSlope, terms.gateSlope};
   const bool gates = terms.gate != nullptr && terms.gateSlope != 1.0f;
   const Kernel& kernel = stream.kernel("nn/conv_pointwise", {kPointwiseWorkgroup, 1, 1},
                                        {blocking.positionVec4s, blocking.channels, bias != nullptr ? 1 : 0,
                                         inputSlope != 1.0f ? 1 : 0, gates ? 1 : 0, terms.addend != nullptr ? 1 : 0});
-  const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(packedWeights);
-  const Arg gateArg = gates ? asVec4(*terms.gate) : asVec4(packedWeights);
-  const Arg addendArg = terms.addend != nullptr ? asVec4(*terms.addend) : asVec4(packedWeights);
-  stream.dispatch(kernel, {asVec4(x), asVec4(packedWeights), biasArg, gateArg, addendArg, y}, push,
+  const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(weights);
+  const Arg gateArg = gates ? asVec4(*terms.gate) : asVec4(weights);
+  const Arg addendArg = terms.addend != nullptr ? asVec4(*terms.addend) : asVec4(weights);
+  stream.dispatch(kernel, {asVec4(x), asVec4(weights), biasArg, gateArg, addendArg, y}, push,
                   {static_cast<uint32_t>(kBlocks), groupsFor(items, kPointwiseWorkgroup),
                    static_cast<uint32_t>(y.size(0))});
 }

@@ -81,12 +81,13 @@ struct PointwiseBlocking {
   int channels = 0;  // a multiple of 4, or every output channel in one block
 };
 PointwiseBlocking pointwiseBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t outChannels);
-// y [N, K, P] = bias + wp^T x for x [N, C, P]; wp packed [C, paddedK] by packWeights with paddedK =
-// pointwisePaddedK(blocking, K).
+// y [N, K, P] = bias + wp^T x for x [N, C, P]; wp [C, rowK]: packed by packWeights with rowK =
+// pointwisePaddedK(blocking, K), or any [C, K] tensor with K a multiple of 4 (rowK = K) read in place.
 int64_t pointwisePaddedK(const PointwiseBlocking& blocking, int64_t outChannels);
 // inputSlope != 1 reads x through leaky ReLU with that negative slope (ConvParams::inputSlope).
-void pointwise(Stream& stream, const Tensor& x, const Tensor& packedWeights, const Tensor* bias, const Tensor& y,
-               const PointwiseBlocking& blocking, float inputSlope = 1.0f, const OutputTerms& terms = {});
+void pointwise(Stream& stream, const Tensor& x, const Tensor& weights, int64_t rowK, const Tensor* bias,
+               const Tensor& y, const PointwiseBlocking& blocking, float inputSlope = 1.0f,
+               const OutputTerms& terms = {});
 // dw [K, C] (any shape of K*C elements) = sum over n, p of g[n, k, p] f(x[n, c, p]), f leaky ReLU with
 // inputSlope (1: f(v) = v), for x [N, C, P], g [N, K, P].
 void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const Tensor& dw, float inputSlope = 1.0f);

@@ -11,7 +11,9 @@
 // backward-input pass of such a convolution: the leaky ReLU's derivative at its forward input u), else 1.
 // n batch, c input channel, k output channel. x [N, C, P] and y [N, K, P] are read and written as vec4s
 // of four consecutive positions (P is a multiple of 4), so neither needs a padded copy; wp holds the
-// weights as [C, Kpad], Kpad a multiple of 4*ceil(CHANNELS/4), zero past K, read as vec4s.
+// weights as [C, Kpad] (weightRow = Kpad / 4 vec4s per input channel), read as vec4s: either packed, Kpad a
+// multiple of 4*ceil(CHANNELS/4) and zero past K, or the backward-input pass's own weight tensor [K', C'] read
+// in place (Kpad = K = C', a multiple of 4); a block's weight vec4s past K are not fetched.
 //
 // Blocking: one invocation computes POSITION_VEC4S vec4s of positions for CHANNELS output channels. Per
 // input channel it fetches POSITION_VEC4S input vec4s and ceil(CHANNELS/4) weight vec4s and does
@@ -69,7 +71,7 @@ void main() {
       if (INPUT_ACTIVATION) xv[v] = mix(inputSlope * xv[v], xv[v], greaterThan(xv[v], vec4(0.0)));
     }
     vec4 weight[CHANNEL_VEC4S];
-    for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[q] = texelFetch(wp, w + q);
+    for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[q] = k0 + 4 * q < outChannels ? texelFetch(wp, w + q) : vec4(0.0);
     for (int k = 0; k < CHANNELS; ++k)
       for (int v = 0; v < POSITION_VEC4S; ++v) acc[k][v] += weight[k / 4][k % 4] * xv[v];
   }

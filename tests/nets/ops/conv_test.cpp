@@ -219,6 +219,8 @@ TEST_F(ConvTest, TransposedBackwardMatchesFiniteDifferences) {
 
 // 1^d kernels at stride 1 without padding on D*H*W a multiple of 4 take the pointwise kernels (no padded
 // copy); K below, at and above a block, C odd, tails of position blocks and of weight-gradient segments.
+// The input gradient (and the transposed forward) reads the weights in place when its output channels are a
+// multiple of 4 (12: a block of 8 and one of 4 with a vec4 past the end) and packs them otherwise.
 TEST_F(ConvTest, PointwiseForwardEveryBlocking) {
   const std::initializer_list<ops::ConvBlocking> blockings{{}, {1, 1}, {4, 1}, {5, 3}, {8, 4}, {16, 2}};
   for (const Case& c : {Case{{2, 5, 4, 7}, {9, 5, 1, 1}, {1, 0}, true},
@@ -227,6 +229,8 @@ TEST_F(ConvTest, PointwiseForwardEveryBlocking) {
                         Case{{3, 4, 3, 4}, {17, 4, 1, 1}, {1, 0}, true}})
     checkForward(c, false, blockings);
   checkForward(Case{{2, 5, 4, 7}, {5, 3, 1, 1}, {1, 0}, true}, true, blockings);
+  checkForward(Case{{2, 5, 4, 7}, {5, 12, 1, 1}, {1, 0}, true}, true, blockings);
+  checkForward(Case{{1, 3, 3, 4, 5}, {3, 8, 1, 1, 1}, {1, 0}}, true, blockings);
 }
 
 TEST_F(ConvTest, PointwiseBackwardMatchesFiniteDifferences) {
@@ -240,6 +244,8 @@ TEST_F(ConvTest, PointwiseBackwardLargerShapesWithTails) {
   checkLargeBackward(Case{{2, 22, 5, 6, 12}, {19, 22, 1, 1, 1}, {1, 0}});
   checkLargeBackward(Case{{1, 6, 14, 18, 20}, {7, 6, 1, 1, 1}, {1, 0}});
   checkLargeBackward(Case{{2, 9, 36, 40}, {2, 9, 1, 1}, {1, 0}});
+  checkLargeBackward(Case{{1, 12, 6, 10, 14}, {7, 12, 1, 1, 1}, {1, 0}});
+  checkLargeBackward(Case{{2, 8, 18, 20}, {5, 8, 1, 1}, {1, 0}});
 }
 
 // A convolution that reads its input through leaky ReLU (ConvParams::inputSlope), pointwise and direct, against
