@@ -84,9 +84,7 @@ void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tenso
   pass.taps = g.kernel;
   pass.stride = g.stride;
   pass.grid = g.output;
-  const Tensor addend5 = addend != nullptr ? conv::as5d(*addend) : Tensor();
-  conv::direct(stream, xp, packed, bias, conv::as5d(y), pass, pixels, channelVec4s,
-               {.addend = addend != nullptr ? &addend5 : nullptr});
+  conv::direct(stream, xp, packed, bias, conv::as5d(y), pass, pixels, channelVec4s, {.addend = addend});
 }
 
 // dx = d<dy, conv(x, w)>/dx (+ b): the transposed convolution, as stride^3 phases, with the output terms
@@ -119,11 +117,6 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
   }
   const conv::Padded dyp = conv::pad(stream, conv::as5d(dy), low, size);
   const Tensor dx5 = conv::as5d(dx);
-  const Tensor gate5 = terms.gate != nullptr ? conv::as5d(*terms.gate) : Tensor();
-  const Tensor addend5 = terms.addend != nullptr ? conv::as5d(*terms.addend) : Tensor();
-  const conv::OutputTerms terms5{.gate = terms.gate != nullptr ? &gate5 : nullptr,
-                                 .gateSlope = terms.gateSlope,
-                                 .addend = terms.addend != nullptr ? &addend5 : nullptr};
   const int64_t paddedK = conv::roundUp(g.inChannels, 4 * static_cast<int64_t>(channelVec4s));
 
   for (const conv::Phase& pz : phases[0]) {
@@ -151,7 +144,7 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
         pass.taps = packing.taps;
         if (!gathers) pass.taps = {0, 1, 1};  // no taps; keeps the kernel's row arrays non-empty
         const Tensor packed = conv::packWeights(stream, w, packing, paddedK);
-        conv::direct(stream, dyp, packed, bias, dx5, pass, pixels, channelVec4s, terms5);
+        conv::direct(stream, dyp, packed, bias, dx5, pass, pixels, channelVec4s, terms);
       }
     }
   }

@@ -143,7 +143,7 @@ void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const
   const Shape& out = y5.shape();
   const bool gates = terms.gate != nullptr && terms.gateSlope != 1.0f;
   for (const auto& [what, tensor] : {std::pair{"gate", terms.gate}, std::pair{"addend", terms.addend}})
-    if (tensor != nullptr) requireShape("direct convolution", what, tensor->shape(), out);
+    if (tensor != nullptr) requireShape("direct convolution", what, as5d(*tensor).shape(), out);
   const int64_t xBlocks = (pass.grid[2] + pixels - 1) / pixels;
   const int64_t items = xBlocks * pass.grid[1] * pass.grid[0];
   const int64_t channelBlock = 4 * channelVec4s;

@@ -55,7 +55,8 @@ struct DirectPass {
 };
 // What the direct and pointwise passes do to each output value v as they write it: y = addend + g v, with
 // g = gate > 0 ? 1 : gateSlope, the derivative of leaky ReLU at `gate` (the input gradient of a convolution
-// through it, ConvParams::inputSlope), and `addend` a residual connection; both of y's shape, absent: none.
+// through it, ConvParams::inputSlope), and `addend` a residual connection; both of y's shape (direct: of y5's
+// shape once viewed as 5-D), absent: none.
 struct OutputTerms {
   const Tensor* gate = nullptr;
   float gateSlope = 1.0f;
