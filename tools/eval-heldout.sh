@@ -33,6 +33,7 @@ declare -A FLAGS=(
   [polish-20-prior-0.1]="--polish 20 --polish-prior-weight 0.1"
   [polish-20-prior-0.1-lr-0.05]="--polish 20 --polish-prior-weight 0.1 --polish-lr 0.05"
   [polish-20-prior-0.1-input-4]="--polish 20 --polish-prior-weight 0.1 --polish-input-weight 4"
+  [init-share-0.5]="--init-share 0.5"
   [no-multi-frame]="--models ${NO_MULTI_FRAME_MODELS:-}"
   [true-side]=""
   [true-side-no-refinement]="--no-refine"

@@ -62,7 +62,7 @@ nlohmann::json signature(const ReconstructOptions& o, const MethodModels& models
             {"given", o.sideViews.empty() ? "" : fs::absolute(o.sideViews).string()},
             {"steps", o.sideView.steps}, {"init_steps", o.sideView.initSteps},
             {"eta", o.sideView.eta}, {"start", o.sideView.start}, {"seed", o.sideView.seed},
-            {"samples", o.sideView.samples}}},
+            {"samples", o.sideView.samples}, {"init_share", o.sideView.initShare}}},
           {"density", {{"refine", o.density.refine}, {"progressive", o.density.progressive}}},
           {"motion",
            {{"inflow_iterations", o.motion.inflowIterations}, {"inflow_lr", o.motion.inflowLr},

@@ -65,6 +65,19 @@ std::vector<float> meanSample(Context& context, diffusion::Denoiser& denoiser, c
   return mean;
 }
 
+// SvDiff-init's side views of `frame` and the next one from their front views alone, [2 * h * w].
+std::vector<float> initialSides(Context& context, MethodModels& models, int frame, const Tensor& front,
+                                const Tensor& nextFront, const SideViewOptions& options) {
+  const Shape& image = front.shape();
+  const diffusion::DdimOptions ddim = ddimOptions(options, options.initSteps, models.initSchedule, frame);
+  std::vector<float> fronts = front.download();
+  const std::vector<float> next = nextFront.download();
+  fronts.insert(fronts.end(), next.begin(), next.end());
+  networks::SideViewDenoiser denoiser(*models.sideViewInit, variable(concatenated(context, {front, nextFront})),
+                                      models.initSchedule);
+  return meanSample(context, denoiser, models.initSchedule, {1, 2, image[2], image[3]}, ddim, fronts, options.samples);
+}
+
 }  // namespace
 
 Tensor sideView(Context& context, MethodModels& models, FrameState& state, int frame, const Tensor& front,
@@ -79,24 +92,27 @@ Tensor sideView(Context& context, MethodModels& models, FrameState& state, int f
     return side;
   }
   if (frame == 0) {
-    const diffusion::DdimOptions ddim = ddimOptions(options, options.initSteps, models.initSchedule, frame);
-    const Shape both{1, 2, image[2], image[3]};
-    std::vector<float> fronts = front.download();
-    const std::vector<float> next = nextFront.download();
-    fronts.insert(fronts.end(), next.begin(), next.end());
-    networks::SideViewDenoiser denoiser(*models.sideViewInit, variable(concatenated(context, {front, nextFront})),
-                                        models.initSchedule);
-    const std::vector<float> sides = meanSample(context, denoiser, models.initSchedule, both, ddim, fronts, options.samples);
+    const std::vector<float> sides = initialSides(context, models, frame, front, nextFront, options);
     const auto half = sides.size() / 2;
     state.pendingSide.upload(std::vector<float>(sides.begin() + static_cast<std::ptrdiff_t>(half), sides.end()));
     return Tensor::fromHost(context, image, std::vector<float>(sides.begin(), sides.begin() + static_cast<std::ptrdiff_t>(half)));
   }
-  const diffusion::DdimOptions ddim = ddimOptions(options, options.steps, models.schedule, frame);
-  networks::SideViewDenoiser denoiser(
-      *models.sideView, variable(concatenated(context, {front, state.side1, state.sideRender1, state.side2, state.sideRender2})),
-      models.schedule);
-  return Tensor::fromHost(context, image,
-                          meanSample(context, denoiser, models.schedule, image, ddim, front.download(), options.samples));
+  std::vector<float> side;
+  if (options.initShare < 1.0) {
+    const diffusion::DdimOptions ddim = ddimOptions(options, options.steps, models.schedule, frame);
+    networks::SideViewDenoiser denoiser(
+        *models.sideView,
+        variable(concatenated(context, {front, state.side1, state.sideRender1, state.side2, state.sideRender2})),
+        models.schedule);
+    side = meanSample(context, denoiser, models.schedule, image, ddim, front.download(), options.samples);
+  }
+  if (options.initShare > 0.0) {
+    const std::vector<float> sides = initialSides(context, models, frame, front, nextFront, options);
+    const auto share = static_cast<float>(options.initShare);
+    if (side.empty()) side.assign(sides.size() / 2, 0.0f);
+    for (std::size_t i = 0; i < side.size(); ++i) side[i] = (1.0f - share) * side[i] + share * sides[i];
+  }
+  return Tensor::fromHost(context, image, side);
 }
 
 }  // namespace smokesvd::reconstruct

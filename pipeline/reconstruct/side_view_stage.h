@@ -27,6 +27,9 @@ struct SideViewOptions {
   int start = -1;       // the DDIM start step: -1 pure noise (T - 1), lower from the mirrored front view
   uint64_t seed = 0;    // frame t samples with seed + t
   int samples = 1;      // the side view is the mean of this many samples
+  // Frames t >= 2: the side view (and the next frames' history) is (1 - s) SvDiff's sample + s SvDiff-init's
+  // estimate of frame t from the front views of t and t + 1 alone (no history); 0 the paper, 1 no history.
+  double initShare = 0.0;
 };
 
 // The side view [1, 1, h, w] of `frame`; `front` and `nextFront` are that frame's and the next one's front

@@ -21,7 +21,7 @@ struct ReconstructArguments {
   std::string input, out, models, frames, camera, framing, intensity = "auto", background = "level", sideView = "synthesize", sideViews;
   std::string preset = "small";
   float threshold = 0.02f, target = 0.9f;
-  reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start, --side-samples
+  reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start, --side-samples, --init-share
   int inflowIterations = 40;
   reconstruct::PolishOptions polish;  // --polish and its --polish-* weights
   double inflowLr = 0.005, inflowHeight = 0.25;

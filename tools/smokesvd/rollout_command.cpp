@@ -17,7 +17,7 @@ namespace {
 struct RolloutArguments {
   std::string data, models, out, preset = "small";
   int firstFrame = 0, frames = 40, scenes = 6;
-  reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start
+  reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start, --side-samples, --init-share
   int validationEvery = 10;
   std::string history = "own";
   bool quiet = false;

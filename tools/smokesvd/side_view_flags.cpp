@@ -24,6 +24,10 @@ void addSideViewSamplingFlags(CLI::App& command, reconstruct::SideViewOptions& o
                      "the side view is the mean of this many DDIM samples (default " + std::to_string(options.samples) +
                          "; docs/reconstruction.md)")
       ->check(wholeNumber(1, 1000));
+  command.add_option("--init-share", options.initShare,
+                     "frames 2 on: the share of SvDiff-init's history-free estimate in the side view (default 0, the "
+                     "paper; 1: no history; docs/reconstruction.md)")
+      ->check(number(0, 1));
 }
 
 }  // namespace smokesvd::cli

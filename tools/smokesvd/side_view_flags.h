@@ -1,6 +1,6 @@
 // The side-view sampling flags that `smokesvd reconstruct` and `smokesvd rollout` share, bound to a
 // reconstruct::SideViewOptions (its defaults are the flags' defaults): --seed, --ddim-steps, --init-steps,
-// --eta, --side-view-start.
+// --eta, --side-view-start, --side-samples, --init-share.
 #pragma once
 
 #include <CLI/CLI.hpp>
