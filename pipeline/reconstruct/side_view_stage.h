@@ -8,7 +8,9 @@
 // which a model that predicts the noise poorly at high steps needs (docs/reconstruction.md). One DDIM step
 // gives the model's clean estimate from pure noise alone. With `samples` K > 1 the side view is the mean of K samples
 // (seeds seed + t + k * 2^32, k = 0..K-1): a Monte-Carlo estimate of the posterior mean E[w | condition],
-// the image of least expected squared error, blurrier than any one sample.
+// the image of least expected squared error, blurrier than any one sample. With `initShare` s > 0 the side view
+// of frames t >= 2 blends in SvDiff-init's estimate of frame t from its and the next front view alone (no
+// history); docs/reconstruction.md.
 #pragma once
 
 #include <cstdint>
@@ -33,7 +35,7 @@ struct SideViewOptions {
 };
 
 // The side view [1, 1, h, w] of `frame`; `front` and `nextFront` are that frame's and the next one's front
-// views (device [1, 1, h, w]; nextFront is read at frame 0 only).
+// views (device [1, 1, h, w]; nextFront is read at frame 0, and at every frame from 2 on when initShare > 0).
 Tensor sideView(Context& context, MethodModels& models, FrameState& state, int frame, const Tensor& front,
                 const Tensor& nextFront, const SideViewOptions& options);
 
