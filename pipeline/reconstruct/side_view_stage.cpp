@@ -107,7 +107,8 @@ Tensor sideView(Context& context, MethodModels& models, FrameState& state, int f
     side = meanSample(context, denoiser, models.schedule, image, ddim, front.download(), options.samples);
   }
   if (options.initShare > 0.0) {
-    const std::vector<float> sides = initialSides(context, models, frame, front, nextFront, options);
+    // The noise of frame 0's draw at every frame: consecutive estimates differ by their front views alone.
+    const std::vector<float> sides = initialSides(context, models, 0, front, nextFront, options);
     const auto share = static_cast<float>(options.initShare);
     if (side.empty()) side.assign(sides.size() / 2, 0.0f);
     for (std::size_t i = 0; i < side.size(); ++i) side[i] = (1.0f - share) * side[i] + share * sides[i];

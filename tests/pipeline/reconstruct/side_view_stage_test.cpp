@@ -1,6 +1,7 @@
 // The side-view stage's share of SvDiff-init's history-free estimate (SideViewOptions::initShare) on the tiny
-// models: at 1 a frame's side view is SvDiff-init's estimate of it from its and the next front view, as frame 0's
-// is; in between it is the blend of that estimate and SvDiff's sample.
+// models: at 1 a frame's side view is SvDiff-init's estimate of it from its and the next front view, drawn with
+// frame 0's noise (so that consecutive frames differ by their front views alone); in between it is the blend
+// of that estimate and SvDiff's sample.
 #include <gtest/gtest.h>
 
 #include "pipeline/preset.h"
@@ -31,11 +32,9 @@ TEST_F(SideViewStageTest, InitShareBlendsSvDiffInitsHistoryFreeEstimateIn) {
   options.seed = 7;
 
   const std::vector<float> svdiff = reconstruct::sideView(context(), models, state, kFrame, front, next, options).download();
-  // SvDiff-init's estimate of frame kFrame: what frame 0 gives for these front views with the seed frame kFrame uses.
-  reconstruct::SideViewOptions asFirst = options;
-  asFirst.seed = options.seed + kFrame;
+  // SvDiff-init's estimate of frame kFrame: what frame 0 gives for these front views, with frame 0's noise.
   reconstruct::FrameState fresh(context(), p);
-  const std::vector<float> init = reconstruct::sideView(context(), models, fresh, 0, front, next, asFirst).download();
+  const std::vector<float> init = reconstruct::sideView(context(), models, fresh, 0, front, next, options).download();
   ASSERT_NE(svdiff, init);
 
   options.initShare = 1.0;
