@@ -10,7 +10,7 @@
 // (seeds seed + t + k * 2^32, k = 0..K-1): a Monte-Carlo estimate of the posterior mean E[w | condition],
 // the image of least expected squared error, blurrier than any one sample. With `initShare` s > 0 the side view
 // of frames t >= 2 blends in SvDiff-init's estimate of frame t from its and the next front view alone (no
-// history); docs/reconstruction.md.
+// history), drawn with frame 0's noise at every frame so that it does not flicker; docs/reconstruction.md.
 #pragma once
 
 #include <cstdint>
@@ -30,7 +30,8 @@ struct SideViewOptions {
   uint64_t seed = 0;    // frame t samples with seed + t
   int samples = 1;      // the side view is the mean of this many samples
   // Frames t >= 2: the side view (and the next frames' history) is (1 - s) SvDiff's sample + s SvDiff-init's
-  // estimate of frame t from the front views of t and t + 1 alone (no history); 0 the paper, 1 no history.
+  // estimate of frame t from the front views of t and t + 1 alone (no history, frame 0's noise); 0 the paper,
+  // 1 no history.
   double initShare = 0.0;
 };
 
