@@ -5,6 +5,7 @@
 #include "nets/functional/activation.h"
 #include "nets/functional/concat.h"
 #include "pipeline/media/image.h"
+#include "runtime/error.h"
 #include "runtime/stream.h"
 
 namespace smokesvd::reconstruct {
@@ -83,6 +84,8 @@ std::vector<float> initialSides(Context& context, MethodModels& models, int fram
 Tensor sideView(Context& context, MethodModels& models, FrameState& state, int frame, const Tensor& front,
                 const Tensor& nextFront, const SideViewOptions& options) {
   const Shape image = front.shape();
+  if (!(options.initShare >= 0.0 && options.initShare <= 1.0))
+    throw Error("side view: init share " + std::to_string(options.initShare) + ", expected a value in [0, 1]");
   if (!options.synthesize) return Tensor::fromHost(context, image, media::mirroredRows(front.download(), static_cast<int>(image[3])));
   if (frame == 1) {
     Tensor side(context, image);

@@ -6,6 +6,7 @@
 
 #include "pipeline/preset.h"
 #include "pipeline/reconstruct/side_view_stage.h"
+#include "runtime/error.h"
 #include "tests/harness/gpu_test.h"
 #include "tests/harness/random.h"
 #include "tests/pipeline/tiny_models.h"
@@ -43,6 +44,8 @@ TEST_F(SideViewStageTest, InitShareBlendsSvDiffInitsHistoryFreeEstimateIn) {
   const std::vector<float> blend = reconstruct::sideView(context(), models, state, kFrame, front, next, options).download();
   ASSERT_EQ(blend.size(), init.size());
   for (std::size_t i = 0; i < blend.size(); ++i) EXPECT_NEAR(blend[i], 0.75f * svdiff[i] + 0.25f * init[i], 1e-6f) << i;
+  options.initShare = 1.5;
+  EXPECT_THROW(reconstruct::sideView(context(), models, state, kFrame, front, next, options), Error);
 }
 
 }  // namespace
