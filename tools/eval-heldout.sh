@@ -8,7 +8,7 @@
 #   tools/eval-heldout.sh OUT_DIR [SCENE_DIR...]
 #       defaults: scenes 0009, 0019, 0029 of data/small (held out: every 10th scene), frames 0:FRAMES
 #   environment: SMOKESVD (default build/smokesvd), MODELS (default: the shipped models/small),
-#                FRAMES (default 24), VARIANTS (default: all below but the polish-20-* ones, init-share-0.5, no-multi-frame and the true-side
+#                FRAMES (default 24), VARIANTS (default: all below but the polish-20-* ones, init-share-*, no-multi-frame and the true-side
 #                ones, which bound what a better side view would buy: the scene's true 90-degree view,
 #                rendered like the front, given with --side-views),
 #                NO_MULTI_FRAME_MODELS: for the no-multi-frame variant, a models folder whose svdiff was
@@ -33,6 +33,7 @@ declare -A FLAGS=(
   [polish-20-prior-0.1]="--polish 20 --polish-prior-weight 0.1"
   [polish-20-prior-0.1-lr-0.05]="--polish 20 --polish-prior-weight 0.1 --polish-lr 0.05"
   [polish-20-prior-0.1-input-4]="--polish 20 --polish-prior-weight 0.1 --polish-input-weight 4"
+  [init-share-0.25]="--init-share 0.25"
   [init-share-0.5]="--init-share 0.5"
   [no-multi-frame]="--models ${NO_MULTI_FRAME_MODELS:-}"
   [true-side]=""
