@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The checks one lent GPU session runs, in one call, from the repository root (docs/benchmarks.md,
-# "Checking on a GPU"), with build-gpu/bundle.tar.xz made by tools/gpu/make-bundle.sh beside it. In order
-# of what is missing most, each step under its own time limit so that a slow one cannot take the rest:
+# The checks to run on a GPU machine in one go, from the repository root (docs/benchmarks.md, "Checking
+# on a GPU"), with build-gpu/bundle.tar.xz made by tools/gpu/make-bundle.sh copied beside it. In order of
+# what is missing most, each step under its own time limit so that a slow one cannot take the rest:
 #   1. the device (smokesvd info);
 #   2. every network's training step at the small and paper presets (smokesvd bench /small, /paper:
 #      time, GFLOP/s, the recording's memory), with the GPU's own memory in use sampled by nvidia-smi
@@ -9,10 +9,9 @@
 #   3. a short paper-preset training run of the coarse G_rho on freshly simulated paper-preset scenes;
 #   4. the test programs, with the Khronos validation layer on as in ctest;
 #   5. every kernel benchmark (smokesvd bench).
-# Writes its logs and a summary under $OUT (or /tmp/gpu-check), eight files at most (what a device call
-# brings back). Without an NVIDIA driver it runs on
-# whatever Vulkan device the loader finds (lavapipe here), which is how the script itself is tested;
-# GPU_CHECK_QUICK=1 then shrinks the steps to the tiny preset.
+# Writes at most eight files under $OUT (default /tmp/gpu-check), summary.txt among them. Without an
+# NVIDIA driver it runs on whatever Vulkan device the loader finds (lavapipe on a CPU machine), which is
+# how the script itself is checked; GPU_CHECK_QUICK=1 then shrinks the steps to the tiny preset.
 set -uo pipefail
 cd "$(dirname "$0")/../.."
 out=${OUT:-/tmp/gpu-check}
@@ -53,8 +52,8 @@ if [[ -f "$nvidia_icd" ]]; then
 fi
 smokesvd=$bundle/smokesvd
 
-# Every step ends by the deadline, GPU_CHECK_SECONDS (default 540) after the start: a call to the GPU
-# machine may run 10 minutes.
+# Every step ends by the deadline, GPU_CHECK_SECONDS (default 540) after the start, so that the whole
+# script fits a 10-minute slot.
 deadline=$((SECONDS + ${GPU_CHECK_SECONDS:-540}))
 step() {  # step NAME SECONDS COMMAND...: runs COMMAND under a time limit into $out/NAME.log
   local name=$1 seconds=$2
@@ -88,13 +87,13 @@ else
   step bench-train-small 60 "$smokesvd" bench /small --runs 3 --warmup 1
   step bench-train-paper 120 "$smokesvd" bench /paper --runs 3 --warmup 1
 fi
-cat "$out"/bench-train-*.log >"$out/bench-train.log" && rm -f "$out"/bench-train-*.log
+cat "$out"/bench-train-*.log >"$out/bench-train.log" 2>/dev/null; rm -f "$out"/bench-train-*.log
 if [[ -n "$sampler" ]]; then
   kill "$sampler"
   awk -F', ' '{gsub(/ MiB/, "", $2); if ($2 + 0 > peak) peak = $2 + 0} END {print "GPU memory in use, peak over the training benchmarks: " peak " MiB"}' \
     "$out/gpu-memory.csv" | tee -a "$summary"
 fi
-grep -E '^train/' "$out/bench-train.log" >>"$summary"
+grep -E '^train/' "$out/bench-train.log" >>"$summary" 2>/dev/null
 
 # 3. A short paper-preset training run (11 scenes: every 10th is held out for validation).
 preset=paper
@@ -103,8 +102,8 @@ data=/tmp/gpu-check-scenes
 rm -rf "$data" /tmp/gpu-check-run
 step simulate 60 "$smokesvd" simulate --preset "$preset" --scenes 11 --frames 4 --seed 1 --out "$data"
 step train 90 "$smokesvd" train grho-coarse --preset "$preset" --data "$data" --steps 40 --out /tmp/gpu-check-run
-tail -2 "$out/train.log" >>"$summary"
-cat "$out/simulate.log" "$out/train.log" >"$out/training.log" && rm -f "$out/simulate.log" "$out/train.log"
+tail -2 "$out/train.log" >>"$summary" 2>/dev/null
+cat "$out/simulate.log" "$out/train.log" >"$out/training.log" 2>/dev/null; rm -f "$out/simulate.log" "$out/train.log"
 [[ -f /tmp/gpu-check-run/model_card.md ]] && cp /tmp/gpu-check-run/model_card.md "$out/training-model-card.md"
 
 # 4. The test programs, as ctest runs them (validation on; a validation message fails the test).
@@ -113,9 +112,9 @@ for program in "$bundle"/test_*; do
   filter='*'
   [[ "$quick" == 1 ]] && filter='*Shape*'
   SMOKESVD_VALIDATION=1 SMOKESVD_SYNC_VALIDATION=1 step "$name" 120 "$program" --gtest_brief=1 --gtest_filter="$filter"
-  grep -E '^\[  (PASSED|FAILED|SKIPPED) ' "$out/$name.log" | sed "s/^/$name /" >>"$summary"
+  grep -E '^\[  (PASSED|FAILED|SKIPPED) ' "$out/$name.log" 2>/dev/null | sed "s/^/$name /" >>"$summary"
 done
-cat "$out"/test_*.log >"$out/tests.log" && rm -f "$out"/test_*.log
+cat "$out"/test_*.log >"$out/tests.log" 2>/dev/null; rm -f "$out"/test_*.log
 
 # 5. Every kernel benchmark.
 if [[ "$quick" != 1 ]]; then

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Builds what tools/gpu/check.sh runs on a GPU machine that has a driver but none of this project's
-# build dependencies (docs/benchmarks.md, "Checking on a GPU"): build-gpu/bundle.tar.xz, one file to
-# copy there beside the checkout (about 13 MiB), holding bundle/ with the stripped
-# smokesvd and test programs (built without the optional OpenCV and OpenVDB, whose libraries would not
-# fit the transfer), the shared libraries they need beyond the C and C++ runtimes, and the Debian
-# packages of the Vulkan loader and the Khronos validation layer, unpacked there by check.sh.
+# build dependencies (docs/benchmarks.md, "Checking on a GPU"): build-gpu/bundle.tar.xz (about 13 MiB),
+# one file to copy there beside the checkout, holding bundle/ with the stripped smokesvd and test
+# programs (built without the optional OpenCV and OpenVDB, whose libraries are most of a bundle's
+# size), the shared libraries they load beyond the C and C++ runtimes, and the Debian packages of the
+# Vulkan loader and the Khronos validation layer, which check.sh unpacks there.
 # Run from anywhere on a machine set up by tools/install-deps.sh; prints the archive's size.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
