@@ -8,6 +8,10 @@
 # Run from anywhere on a machine set up by tools/install-deps.sh; prints the archive's size.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
+if ! command -v xz >/dev/null; then
+  echo "make-bundle.sh: xz is missing, which packs the bundle: apt-get install xz-utils" >&2
+  exit 2
+fi
 
 cmake -S . -B build-gpu -G Ninja -DSMOKESVD_OPENCV=OFF -DSMOKESVD_OPENVDB=OFF
 cmake --build build-gpu
