@@ -1,7 +1,6 @@
 #include "pipeline/eval/fields.h"
 
-#include <fstream>
-
+#include "nets/io/json_file.h"
 #include "nets/io/npy.h"
 #include "pipeline/sim/outputs.h"
 #include "runtime/error.h"
@@ -61,14 +60,9 @@ std::vector<float> ReconstructionRun::velocity(int frame) const {
 ReconstructionRun readReconstructionRun(const fs::path& folder) {
   const fs::path runPath = folder / "run.json";
   if (!fs::is_directory(folder)) throw Error(folder.string() + ": no such folder (expected a reconstruction)");
-  std::ifstream file(runPath);
-  if (!file) throw Error(folder.string() + ": not a reconstruction (no run.json; make one with smokesvd reconstruct)");
-  nlohmann::json run;
-  try {
-    run = nlohmann::json::parse(file);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(runPath.string() + ": not valid JSON (" + e.what() + ")");
-  }
+  if (!fs::is_regular_file(runPath))
+    throw Error(folder.string() + ": not a reconstruction (no run.json; make one with smokesvd reconstruct)");
+  const nlohmann::json run = io::readJsonFile(runPath);
   if (run.value("command", "") != "smokesvd reconstruct")
     throw Error(folder.string() + ": not a reconstruction (its run.json was not written by smokesvd reconstruct)");
   ReconstructionRun r;

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "nets/io/file_io.h"
+#include "nets/io/json_file.h"
 #include "nets/io/npy.h"
 #include "pipeline/media/image.h"
 #include "pipeline/networks/view_slots.h"
@@ -25,14 +26,7 @@ using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-nlohmann::json readJson(const fs::path& path) {
-  std::ifstream file(path);
-  try {
-    return nlohmann::json::parse(file);
-  } catch (const nlohmann::json::exception& error) {
-    throw Error(path.string() + ": not valid JSON (" + error.what() + "); delete it or use --overwrite");
-  }
-}
+nlohmann::json readJson(const fs::path& path) { return io::readJsonFile(path, "delete it or use --overwrite"); }
 
 void writeJson(const fs::path& path, const nlohmann::json& json) {
   io::writeAtomically(path, [&](const fs::path& temporary) {

@@ -167,17 +167,12 @@ LossTerms GrhoTrainer::record(Tape& tape, int variant) {
   terms.terms.emplace_back("render_input", weightedViewMse(tape, renders, truth, sqrtInputWeights_));
   terms.terms.emplace_back("render_unseen", weightedViewMse(tape, renders, truth, sqrtUnseenWeights_));
   if (!out.supervision.empty()) {
-    Var sum;
-    for (const Var& head : out.supervision) {
-      const Var l = fn::mseLoss(tape, head, density_);
-      sum = sum ? fn::add(tape, sum, l) : l;
-    }
+    std::vector<Var> heads;
+    for (const Var& head : out.supervision) heads.push_back(fn::mseLoss(tape, head, density_));
     terms.terms.emplace_back(
-        "deep_supervision", fn::scale(tape, sum, static_cast<float>(weights_.deepSupervision / static_cast<double>(out.supervision.size()))));
+        "deep_supervision", fn::scale(tape, sumOf(tape, heads), static_cast<float>(weights_.deepSupervision / static_cast<double>(out.supervision.size()))));
   }
-  Var total;
-  for (const auto& [name, term] : terms.terms) total = total ? fn::add(tape, total, term) : term;
-  terms.total = total;
+  addUpTotal(tape, terms);
   return terms;
 }
 

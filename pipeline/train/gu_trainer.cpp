@@ -13,15 +13,6 @@
 #include "runtime/error.h"
 
 namespace smokesvd::train {
-namespace {
-
-Var sumOf(Tape& tape, const std::vector<Var>& terms) {
-  Var sum;
-  for (const Var& t : terms) sum = sum ? fn::add(tape, sum, t) : t;
-  return sum;
-}
-
-}  // namespace
 
 GuTrainer::GuTrainer(Context& context, const networks::NetworkConfig& config, const dataset::SceneDataset& data,
                      const std::filesystem::path& models)
@@ -117,9 +108,7 @@ LossTerms GuTrainer::record(Tape& tape, int variant) {
     for (const Var& head : out.supervision) heads.push_back(fn::mseLoss(tape, head, truthVelocity));
     weighted("deep_supervision", weights_.deepSupervision / static_cast<double>(heads.size()), sumOf(tape, heads));
   }
-  std::vector<Var> all;
-  for (const auto& [name, term] : terms.terms) all.push_back(term);
-  terms.total = sumOf(tape, all);
+  addUpTotal(tape, terms);
   return terms;
 }
 

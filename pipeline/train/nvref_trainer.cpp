@@ -36,12 +36,6 @@ Var group(Tape& tape, const Var& images, int index, int n) {
   return fn::reshape(tape, fn::sliceChannels(tape, asChannels, index * n, (index + 1) * n), {n, 1, s[2], s[3]});
 }
 
-Var sumOf(Tape& tape, const std::vector<Var>& terms) {
-  Var sum;
-  for (const Var& t : terms) sum = sum ? fn::add(tape, sum, t) : t;
-  return sum;
-}
-
 }  // namespace
 
 NvRefTrainer::Batch::Batch(Context& context, const Preset& p, int n) : views(n) {
@@ -206,9 +200,7 @@ LossTerms NvRefTrainer::record(Tape& tape, int variant) {
   weighted("row_sum", weights_.rowSum, fn::rowSumLoss(tape, images.refined, images.truth));
   const Var reference = psnrAgainstBlack_ ? batch_.black : images.render;
   weighted("psnr_gap", weights_.psnrGap, fn::psnrGapLoss(tape, images.refined, images.truth, reference));
-  std::vector<Var> all;
-  for (const auto& [name, term] : terms.terms) all.push_back(term);
-  terms.total = sumOf(tape, all);
+  addUpTotal(tape, terms);
   return terms;
 }
 

@@ -21,12 +21,6 @@
 namespace smokesvd::train {
 namespace {
 
-Var sumOf(Tape& tape, const std::vector<Var>& terms) {
-  Var sum;
-  for (const Var& t : terms) sum = sum ? fn::add(tape, sum, t) : t;
-  return sum;
-}
-
 Var constant(Tape& tape, float value) { return variable(Tensor::fromHost(tape.context(), {1}, std::vector<float>{value})); }
 Var zero(Tape& tape) { return constant(tape, 0.0f); }
 
@@ -226,9 +220,7 @@ LossTerms SvDiffTrainer::recordInitial(Tape& tape, bool guided, const render::Re
     terms.terms.emplace_back("image", zero(tape));
     terms.terms.emplace_back("row_sum", zero(tape));
   }
-  std::vector<Var> all;
-  for (const auto& [name, term] : terms.terms) all.push_back(term);
-  terms.total = sumOf(tape, all);
+  addUpTotal(tape, terms);
   return terms;
 }
 
@@ -303,9 +295,7 @@ LossTerms SvDiffTrainer::recordSequence(Tape& tape, bool guided, bool initHistor
   terms.terms.emplace_back("image", averaged(image, weights_.image));
   terms.terms.emplace_back("row_sum", averaged(rowSum, weights_.rowSum));
   terms.terms.emplace_back("velocity", averaged(velocity, weights_.velocity));
-  std::vector<Var> all;
-  for (const auto& [name, term] : terms.terms) all.push_back(term);
-  terms.total = sumOf(tape, all);
+  addUpTotal(tape, terms);
   return terms;
 }
 

@@ -20,6 +20,11 @@ struct LossTerms {
   Var total;                                       // their sum, what the step minimises
 };
 
+// The sum of `values` (at least one), added left to right.
+Var sumOf(Tape& tape, const std::vector<Var>& values);
+// Sets terms.total to the sum of terms.terms, in their order.
+void addUpTotal(Tape& tape, LossTerms& terms);
+
 struct Metric {
   std::string name;
   double value = 0;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "nets/io/file_io.h"
+#include "nets/io/json_file.h"
 #include "nets/io/safetensors.h"
 #include "nets/modules/weights.h"
 #include "nets/optim/adam.h"
@@ -38,14 +39,7 @@ void writeText(const fs::path& path, const std::string& text) {
   });
 }
 
-nlohmann::json readJson(const fs::path& path) {
-  std::ifstream file(path);
-  try {
-    return nlohmann::json::parse(file);
-  } catch (const nlohmann::json::exception& error) {
-    throw Error(path.string() + ": not valid JSON (" + error.what() + "); delete it or use --overwrite");
-  }
-}
+nlohmann::json readJson(const fs::path& path) { return io::readJsonFile(path, "delete it or use --overwrite"); }
 
 struct Recording {
   explicit Recording(Context& context) : stream(context), tape(stream) {}

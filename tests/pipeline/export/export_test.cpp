@@ -7,6 +7,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "nets/io/json_file.h"
 #include "nets/io/npy.h"
 #include "nets/io/temporary_folder.h"
 #include "pipeline/camera/calibration.h"
@@ -59,11 +60,6 @@ exporters::ExportOptions options(exporters::Format format, const std::string& ou
   return o;
 }
 
-nlohmann::json readJson(const fs::path& path) {
-  std::ifstream file(path);
-  return nlohmann::json::parse(file);
-}
-
 // A calibration that turns, shifts and scales the box (square pixels: the same size per cell along x and y).
 fs::path tiltedCalibration() {
   const fs::path path = root() / "tilted.json";
@@ -113,7 +109,7 @@ TEST_F(ExportTest, MantaflowFilesHaveItsLayoutAndAdvectAsTheRunDid) {
   physics::advect(stream, grid, d, u, &in, {}, next);
   stream.submit();
   EXPECT_EQ(next.download(), io::readNpzMember(out / "density_0002.npz", "arr_0").floats);
-  EXPECT_EQ(readJson(out / "export.json")["format"], "mantaflow");
+  EXPECT_EQ(io::readJsonFile(out / "export.json")["format"], "mantaflow");
 }
 
 // Pixel coordinates of a world point through a transforms.json camera, as nerfstudio reads it: OpenGL
@@ -157,7 +153,7 @@ double hullDistance(std::vector<glm::dvec2> points, const glm::dvec2& q) {
 // run's orthographic views: every pixel more than 1.5 pixels from the projected box's outline is lit exactly
 // when it lies inside it.
 void expectCamerasReprojectTheBox(const fs::path& out, const exporters::WorldPlacement& placement) {
-  const nlohmann::json transforms = readJson(out / "frame_0000" / "transforms.json");
+  const nlohmann::json transforms = io::readJsonFile(out / "frame_0000" / "transforms.json");
   const sim::Scene scene = sim::readScene(run() / "scene.json");
   const std::vector<Camera> views =
       orbitCameras(orbitAngles(scene.render.views), kGrid, scene.render.width, scene.render.height);
@@ -201,16 +197,16 @@ TEST_F(ExportTest, NerfCamerasPutTheBoxWhereTheRendererDrawsIt) {
   const fs::path frame = o.out / "frame_0002";
   for (const char* f : {"transforms.json", "transforms_train.json", "transforms_test.json", "images/view_15.png"})
     EXPECT_TRUE(fs::exists(frame / f)) << f;
-  const nlohmann::json transforms = readJson(frame / "transforms.json");
+  const nlohmann::json transforms = io::readJsonFile(frame / "transforms.json");
   EXPECT_EQ(transforms["camera_model"], "OPENCV");
   EXPECT_EQ(transforms["w"], 16);
   EXPECT_EQ(transforms["h"], 28);
   EXPECT_EQ(transforms["frames"][3]["file_path"], "images/view_03.png");
   EXPECT_DOUBLE_EQ(transforms["fl_x"].get<double>(), transforms["fl_y"].get<double>());
-  const nlohmann::json synthetic = readJson(frame / "transforms_train.json");
+  const nlohmann::json synthetic = io::readJsonFile(frame / "transforms_train.json");
   EXPECT_EQ(synthetic["frames"][3]["file_path"], "./images/view_03");
   EXPECT_NEAR(synthetic["camera_angle_x"].get<double>(), 2 * std::atan(8.0 / transforms["fl_x"].get<double>()), 1e-12);
-  EXPECT_TRUE(readJson(frame / "transforms_test.json")["frames"].empty());
+  EXPECT_TRUE(io::readJsonFile(frame / "transforms_test.json")["frames"].empty());
   // 8-bit RGB copies of the run's 16-bit renders.
   const media::Image copy = media::readPng(frame / "images" / "view_05.png");
   const media::Image original = media::readPng(run() / "renders" / "view_05" / "0002.png");
@@ -243,7 +239,7 @@ TEST_F(ExportTest, NonSquarePixelsHaveNoNerfSyntheticFiles) {
   exporters::runExport(o);
   EXPECT_TRUE(fs::exists(o.out / "frame_0000" / "transforms.json"));
   EXPECT_FALSE(fs::exists(o.out / "frame_0000" / "transforms_train.json"));
-  const nlohmann::json transforms = readJson(o.out / "frame_0000" / "transforms.json");
+  const nlohmann::json transforms = io::readJsonFile(o.out / "frame_0000" / "transforms.json");
   EXPECT_GT(std::abs(transforms["fl_x"].get<double>() - transforms["fl_y"].get<double>()), 1.0);
   expectCamerasReprojectTheBox(o.out, exporters::placementOf(sim::readSavedRun(run()), calibration, false));
 }

@@ -1,0 +1,15 @@
+// Reading a JSON file with an error that names it.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace smokesvd::io {
+
+// The parsed file. Throws Error naming the path when it cannot be read (readTextFile's errors) or is not
+// valid JSON ("<path>: not valid JSON (<parser's reason>)", then "; <remedy>" when one is given).
+nlohmann::json readJsonFile(const std::filesystem::path& path, const std::string& remedy = "");
+
+}  // namespace smokesvd::io
