@@ -40,4 +40,13 @@ void writeFileAtomically(const std::filesystem::path& path, const std::vector<st
   });
 }
 
+void writeTextFileAtomically(const std::filesystem::path& path, const std::string& text) {
+  writeAtomically(path, [&](const std::filesystem::path& temporary) {
+    std::ofstream file(temporary, std::ios::binary);
+    file << text;
+    file.close();
+    if (!file) throw Error(path.string() + ": write failed");
+  });
+}
+
 }  // namespace smokesvd::io

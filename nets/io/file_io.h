@@ -36,5 +36,6 @@ void writeAtomically(const std::filesystem::path& path, Write&& write) {
 }
 
 void writeFileAtomically(const std::filesystem::path& path, const std::vector<std::byte>& bytes);
+void writeTextFileAtomically(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace smokesvd::io

@@ -14,4 +14,8 @@ nlohmann::json readJsonFile(const std::filesystem::path& path, const std::string
   }
 }
 
+void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& json) {
+  writeTextFileAtomically(path, json.dump(2) + "\n");
+}
+
 }  // namespace smokesvd::io

@@ -12,4 +12,7 @@ namespace smokesvd::io {
 // valid JSON ("<path>: not valid JSON (<parser's reason>)", then "; <remedy>" when one is given).
 nlohmann::json readJsonFile(const std::filesystem::path& path, const std::string& remedy = "");
 
+// Writes `json` indented by two spaces, with a final newline, atomically (file_io.h).
+void writeJsonFile(const std::filesystem::path& path, const nlohmann::json& json);
+
 }  // namespace smokesvd::io

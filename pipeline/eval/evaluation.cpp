@@ -1,10 +1,10 @@
 #include "pipeline/eval/evaluation.h"
 
 #include <cmath>
-#include <fstream>
 #include <memory>
 
 #include "nets/io/file_io.h"
+#include "nets/io/json_file.h"
 #include "pipeline/eval/comparison_sheet.h"
 #include "pipeline/eval/fields.h"
 #include "pipeline/eval/metric_tally.h"
@@ -77,14 +77,6 @@ std::vector<std::size_t> sheetViews(const std::vector<EvalView>& views) {
     if (std::find(chosen.begin(), chosen.end(), best) == chosen.end()) chosen.push_back(best);
   }
   return chosen;
-}
-
-void writeText(const fs::path& path, const std::string& text) {
-  io::writeAtomically(path, [&](const fs::path& temporary) {
-    std::ofstream file(temporary);
-    file << text;
-    if (!file) throw Error(temporary.string() + ": cannot write");
-  });
 }
 
 std::string csvLine(const std::vector<std::string>& cells) {
@@ -251,11 +243,11 @@ json runEvaluation(Context& context, const EvalOptions& o) {
   for (std::size_t v : shownViews) sheetViewNames.push_back(views[v].name);
   metrics["sheet"]["views"] = sheetViewNames;
 
-  writeText(o.out / "metrics.json", metrics.dump(2) + "\n");
+  io::writeJsonFile(o.out / "metrics.json", metrics);
   std::string csv = csvLine(metricsCsvHeader());
   for (const auto& row : summary.csvRows) csv += csvLine(row);
-  writeText(o.out / "metrics.csv", csv);
-  writeText(o.out / "per_frame.csv", perFrame);
+  io::writeTextFileAtomically(o.out / "metrics.csv", csv);
+  io::writeTextFileAtomically(o.out / "per_frame.csv", perFrame);
   if (!shownViews.empty()) {
     for (std::size_t r = 0; r < shownViews.size(); ++r) {
       const EvalView& view = views[shownViews[r]];

@@ -2,7 +2,7 @@
 
 #include <fstream>
 
-#include "nets/io/file_io.h"
+#include "nets/io/json_file.h"
 #include "pipeline/export/mantaflow_files.h"
 #include "pipeline/export/nerf_files.h"
 #include "pipeline/export/vdb_files.h"
@@ -79,11 +79,7 @@ ExportResult runExport(const ExportOptions& o) {
   ExportResult result;
   result.frames = run.frames;
   result.index = o.out / "export.json";
-  io::writeAtomically(result.index, [&](const fs::path& temporary) {
-    std::ofstream file(temporary);
-    file << index.dump(2) << "\n";
-    if (!file) throw Error(temporary.string() + ": cannot write");
-  });
+  io::writeJsonFile(result.index, index);
   return result;
 }
 

@@ -1,9 +1,8 @@
 #include "pipeline/export/nerf_files.h"
 
 #include <cmath>
-#include <fstream>
 
-#include "nets/io/file_io.h"
+#include "nets/io/json_file.h"
 #include "pipeline/export/nerf_cameras.h"
 #include "pipeline/media/image.h"
 #include "pipeline/sim/outputs.h"
@@ -23,14 +22,6 @@ nlohmann::json rows(const glm::dmat4& m) {
   nlohmann::json out = nlohmann::json::array();
   for (int r = 0; r < 4; ++r) out.push_back({m[0][r], m[1][r], m[2][r], m[3][r]});
   return out;
-}
-
-void writeJson(const fs::path& path, const nlohmann::json& json) {
-  io::writeAtomically(path, [&](const fs::path& temporary) {
-    std::ofstream file(temporary);
-    file << json.dump(2) << "\n";
-    if (!file) throw Error(temporary.string() + ": cannot write");
-  });
 }
 
 }  // namespace
@@ -73,11 +64,11 @@ nlohmann::json writeNerf(const sim::SavedRun& run, const WorldPlacement& placeme
                               {"k2", 0},                  {"p1", 0},          {"p2", 0},           {"frames", frames},
                               {"smokesvd", note}};
     transforms["smokesvd"]["frame"] = t;
-    writeJson(folder / "transforms.json", transforms);
+    io::writeJsonFile(folder / "transforms.json", transforms);
     if (pinholes.squarePixels) {
       const double angleX = 2 * std::atan(0.5 * first.width / first.fx);
-      writeJson(folder / "transforms_train.json", {{"camera_angle_x", angleX}, {"frames", synthetic}});
-      writeJson(folder / "transforms_test.json", {{"camera_angle_x", angleX}, {"frames", nlohmann::json::array()}});
+      io::writeJsonFile(folder / "transforms_train.json", {{"camera_angle_x", angleX}, {"frames", synthetic}});
+      io::writeJsonFile(folder / "transforms_test.json", {{"camera_angle_x", angleX}, {"frames", nlohmann::json::array()}});
     }
   }
   return {{"folders", "frame_NNNN/ with images/view_VV.png (8-bit RGB), transforms.json (nerfstudio)" +

@@ -1,7 +1,6 @@
 #include "pipeline/reconstruct/reconstruction.h"
 
 #include <chrono>
-#include <fstream>
 #include <optional>
 
 #include "nets/io/file_io.h"
@@ -27,14 +26,6 @@ using Clock = std::chrono::steady_clock;
 double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 nlohmann::json readJson(const fs::path& path) { return io::readJsonFile(path, "delete it or use --overwrite"); }
-
-void writeJson(const fs::path& path, const nlohmann::json& json) {
-  io::writeAtomically(path, [&](const fs::path& temporary) {
-    std::ofstream file(temporary);
-    file << json.dump(2) << "\n";
-    if (!file) throw Error(temporary.string() + ": cannot write");
-  });
-}
 
 // What must agree for a run to be resumed: the input, its frames and mapping, the models, every option.
 nlohmann::json signature(const ReconstructOptions& o, const MethodModels& models, const FrontViews& views) {
@@ -171,7 +162,7 @@ ReconstructResult runReconstruction(Context& context, const ReconstructOptions& 
     run["seconds_total"] = seconds;
     run["seconds_per_frame"] = state.framesDone > 0 ? seconds / state.framesDone : 0.0;
     run["stage_seconds"] = result.stageSeconds;
-    writeJson(runPath, run);
+    io::writeJsonFile(runPath, run);
   };
   if (state.framesDone == 0) saveRun(false, 0);
 

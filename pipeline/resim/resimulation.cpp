@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "nets/io/file_io.h"
+#include "nets/io/json_file.h"
 #include "nets/io/npy.h"
 #include "pipeline/media/image.h"
 #include "pipeline/media/video.h"
@@ -30,14 +31,6 @@ const std::vector<std::string>& outputNames() {
   static const std::vector<std::string> names{"run.json", "scene.json", "flags.npz", "fields", "renders",
                                               "forces",   "front.mp4",  "side.mp4"};
   return names;
-}
-
-void writeJson(const fs::path& path, const nlohmann::json& json) {
-  io::writeAtomically(path, [&](const fs::path& temporary) {
-    std::ofstream file(temporary);
-    file << json.dump(2) << "\n";
-    if (!file) throw Error(temporary.string() + ": cannot write");
-  });
 }
 
 std::string boxText(const GridSize& g) {
@@ -232,7 +225,7 @@ ResimResult runResimulation(Context& context, const ResimOptions& o) {
                      {"complete", false}};
   for (const ObstacleEdit& e : o.obstacles) run["options"]["obstacles"].push_back(e.text);
   for (const ForceEdit& e : o.forces) run["options"]["forces"].push_back(e.text);
-  writeJson(o.out / "run.json", run);
+  io::writeJsonFile(o.out / "run.json", run);
 
   sim::Simulator simulator(context, scene);
   sim::SimulatorState start;
@@ -294,7 +287,7 @@ ResimResult runResimulation(Context& context, const ResimOptions& o) {
   run["converged"] = result.converged;
   run["seconds"] = result.seconds;
   run["complete"] = true;
-  writeJson(o.out / "run.json", run);
+  io::writeJsonFile(o.out / "run.json", run);
   return result;
 }
 

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <sstream>
 
@@ -29,14 +28,6 @@ const std::vector<std::string>& runFiles() {
   static const std::vector<std::string> files{"config.json", "checkpoint.safetensors", "loss.csv", "loss.png",
                                               "validation.csv", "run.json", "model.safetensors", "model_card.md"};
   return files;
-}
-
-void writeText(const fs::path& path, const std::string& text) {
-  io::writeAtomically(path, [&](const fs::path& temporary) {
-    std::ofstream file(temporary);
-    file << text;
-    if (!file) throw Error(temporary.string() + ": cannot write");
-  });
 }
 
 nlohmann::json readJson(const fs::path& path) { return io::readJsonFile(path, "delete it or use --overwrite"); }
@@ -90,7 +81,7 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const networ
       throw Error(out.string() + ": its run was trained with another config (config.json differs); "
                   "resume with the same config, or --overwrite");
   }
-  writeText(out / "config.json", configJson.dump(2) + "\n");
+  io::writeJsonFile(out / "config.json", configJson);
 
   TrainingResult result;
   if (options.resume && fs::exists(modelPath) && fs::exists(out / "run.json") &&
@@ -204,7 +195,7 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const networ
       optim::saveCheckpoint(checkpointPath, parameters, adam, &ema,
                             {{"network", networks::networkName(config.network)}, {"seconds", std::to_string(seconds())}});
       plotLosses(out / "loss.png", losses, 3);
-      writeText(out / "run.json", nlohmann::json{{"complete", false}, {"steps", done}, {"seconds", seconds()}}.dump(2) + "\n");
+      io::writeJsonFile(out / "run.json", {{"complete", false}, {"steps", done}, {"seconds", seconds()}});
     }
     result.stepsThisCall = done - start;
     result.steps = done;
@@ -229,9 +220,8 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const networ
        << (options.initWeights.empty() ? std::string() : "; initialised from " + options.initWeights.string()) << ".\n"
        << "- Time: " << formatDuration(result.seconds) << " on " << context.info().name << ".\n"
        << "- Validation on held-out scenes (the last): " << metricLine(result.validation) << ".\n";
-  writeText(out / "model_card.md", card.str());
-  writeText(out / "run.json",
-            nlohmann::json{{"complete", true}, {"steps", result.steps}, {"seconds", result.seconds}}.dump(2) + "\n");
+  io::writeTextFileAtomically(out / "model_card.md", card.str());
+  io::writeJsonFile(out / "run.json", {{"complete", true}, {"steps", result.steps}, {"seconds", result.seconds}});
   fs::remove(checkpointPath);
   result.complete = true;
   return result;
