@@ -13,6 +13,8 @@
 #                rendered like the front, given with --side-views),
 #                NO_MULTI_FRAME_MODELS: for the no-multi-frame variant, a models folder whose svdiff was
 #                trained with options.multi_frame = false (docs/evaluation.md says how)
+#                SEED: the side-view sampler's seed (default: reconstruct's, 0), to repeat a comparison with
+#                another draw of its noise
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SMOKESVD=${SMOKESVD:-build/smokesvd}
@@ -62,6 +64,7 @@ for scene in "${SCENES[@]}"; do
       models=()
     fi
     [[ "$variant" != true-side* ]] || models+=(--side-views "$OUT/$name/side")
+    [ -z "${SEED:-}" ] || models+=(--seed "$SEED")
     # shellcheck disable=SC2086
     [ -f "$recon/run.json" ] && grep -q '"complete": true' "$recon/run.json" ||
       "$SMOKESVD" reconstruct "$front" --out "$recon" --framing box --intensity none --resume \
