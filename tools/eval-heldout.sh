@@ -41,7 +41,7 @@ declare -A FLAGS=(
   [true-side]=""
   [true-side-no-refinement]="--no-refine"
 )
-VARIANTS=(${VARIANTS:-full no-refinement no-progressive mirror-side polish-20})
+read -ra VARIANTS <<< "${VARIANTS:-full no-refinement no-progressive mirror-side polish-20}"
 
 for scene in "${SCENES[@]}"; do
   name=$(basename "$scene")
