@@ -1,4 +1,4 @@
-// Reading a JSON file with an error that names it.
+// Reading a JSON file with errors that name it, and writing one atomically.
 #pragma once
 
 #include <filesystem>
