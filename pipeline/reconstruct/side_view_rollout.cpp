@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <numeric>
+#include <optional>
 
+#include "pipeline/dataset/synthesised_side_views.h"
 #include "pipeline/differentiable/render.h"
 #include "pipeline/media/image.h"
 #include "pipeline/networks/view_slots.h"
@@ -20,6 +22,21 @@ double average(const std::vector<double>& v, std::size_t begin, std::size_t end)
   if (begin >= end) return 0;
   return std::accumulate(v.begin() + static_cast<std::ptrdiff_t>(begin), v.begin() + static_cast<std::ptrdiff_t>(end), 0.0) /
          static_cast<double>(end - begin);
+}
+
+dataset::SideViewRolloutManifest manifestOf(const Preset& preset, int firstFrame, int frames, const SideViewOptions& o,
+                                            RolloutHistory history) {
+  dataset::SideViewRolloutManifest m;
+  m.preset = preset.name;
+  m.firstFrame = firstFrame;
+  m.frames = frames;
+  m.height = preset.imageHeight;
+  m.width = preset.imageWidth;
+  m.how = {{"history", history == RolloutHistory::Truth ? "truth" : "own"},
+           {"sampling",
+            {{"synthesize", o.synthesize}, {"steps", o.steps}, {"init_steps", o.initSteps}, {"eta", o.eta}, {"start", o.start},
+             {"seed", o.seed}, {"samples", o.samples}, {"init_share", o.initShare}}}};
+  return m;
 }
 
 }  // namespace
@@ -55,13 +72,15 @@ nlohmann::json RolloutResult::toJson() const {
 }
 
 RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int firstFrame,
-                              int frames, int scenes, const SideViewOptions& options, RolloutHistory history, bool progress) {
+                              int frames, int scenes, const SideViewOptions& options, RolloutHistory history, bool progress,
+                              const RolloutScenes& from) {
   const Preset& preset = data.preset();
-  std::vector<const dataset::SceneEntry*> rolled;  // the first `scenes` validation scenes with enough frames
-  for (const dataset::SceneEntry& scene : data.validation())
+  std::vector<const dataset::SceneEntry*> rolled;  // the first `scenes` scenes of the split with enough frames
+  for (const dataset::SceneEntry& scene : from.training ? data.training() : data.validation())
     if (scene.frames >= firstFrame + frames && static_cast<int>(rolled.size()) < scenes) rolled.push_back(&scene);
   if (rolled.empty())
-    throw Error(data.root().string() + ": no validation scene has the " + std::to_string(firstFrame + frames) +
+    throw Error(data.root().string() + ": no " + (from.training ? "training" : "validation") + " scene has the " +
+                std::to_string(firstFrame + frames) +
                 " frames of a rollout of " + std::to_string(frames) + " frames from frame " + std::to_string(firstFrame));
   const auto rolledScenes = static_cast<int64_t>(rolled.size());
   Progress bar(rolledScenes * frames, 0, frames, !progress);  // off a terminal, a line per scene
@@ -74,6 +93,9 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
   result.previous.assign(static_cast<std::size_t>(frames - 1), 0.0);
   const std::vector<Camera> frontSide{networks::orbitCameraAt(preset, 0), networks::orbitCameraAt(preset, 90)};
   const render::ViewSet sideCamera = render::uploadViews(context, std::vector<Camera>{frontSide[1]});
+  const dataset::SideViewRolloutManifest manifest = manifestOf(preset, firstFrame, frames, options, history);
+  const bool keep = !from.keepSideViews.empty();
+  if (keep) dataset::prepareSideViewFolder(from.keepSideViews, manifest);
   for (const dataset::SceneEntry* rolledScene : rolled) {
     const dataset::SceneEntry& scene = *rolledScene;
     const render::RenderSettings look = data.look(scene);
@@ -84,13 +106,18 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
       fronts.push_back(images[0]);
       sides.push_back(images[1]);
     }
+    // Side views kept by an earlier rollout into the same folder are this one's: it is deterministic.
+    const std::optional<std::vector<float>> kept = keep ? dataset::readSceneSideViews(from.keepSideViews, manifest, scene) : std::nullopt;
+    const std::size_t pixels = static_cast<std::size_t>(preset.imageHeight) * static_cast<std::size_t>(preset.imageWidth);
+    std::vector<float> synthesizedFrames;
     FrameState state(context, preset);
-    for (int t = 0; t < frames; ++t) {
-      const Shape image{1, 1, preset.imageHeight, preset.imageWidth};
+    const Shape image{1, 1, preset.imageHeight, preset.imageWidth};
+    // Frame t's side view, and the history of the frames after it: that side view (or with true history the
+    // true one) and the side render of its coarse density.
+    auto synthesizeFrame = [&](int t) {
       const Tensor front = Tensor::fromHost(context, image, fronts[static_cast<std::size_t>(t)].values);
       const Tensor next = Tensor::fromHost(context, image, fronts[static_cast<std::size_t>(std::min(t + 1, frames - 1))].values);
       const Tensor side = sideView(context, models, state, t, front, next, options);
-      // What the next frames are conditioned on: this side view, or with true history the true one.
       const Tensor conditioning = result.trueHistory ? Tensor::fromHost(context, image, sides[static_cast<std::size_t>(t)].values) : side;
       Stream stream(context);
       Tape tape(stream);
@@ -110,7 +137,17 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
       stream.copy(conditioning, state.side1);
       stream.copy(render->value, state.sideRender1);
       stream.submit();
-      const std::vector<float> synthesized = side.download();
+      return side.download();
+    };
+    for (int t = 0; t < frames; ++t) {
+      std::vector<float> synthesized;
+      if (kept) {
+        const auto begin = kept->begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(t) * pixels);
+        synthesized.assign(begin, begin + static_cast<std::ptrdiff_t>(pixels));
+      } else {
+        synthesized = synthesizeFrame(t);
+      }
+      if (keep) synthesizedFrames.insert(synthesizedFrames.end(), synthesized.begin(), synthesized.end());
       const std::vector<float> mirror = media::mirroredRows(fronts[static_cast<std::size_t>(t)].values, preset.imageWidth);
       result.psnr[static_cast<std::size_t>(t)] += train::psnr(synthesized, sides[static_cast<std::size_t>(t)].values);
       result.mirrored[static_cast<std::size_t>(t)] += train::psnr(mirror, sides[static_cast<std::size_t>(t)].values);
@@ -123,6 +160,7 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
                  "scene " + std::to_string(result.scenes + 1) + "/" + std::to_string(rolledScenes) +
                      " frame " + std::to_string(t));
     }
+    if (keep && !kept) dataset::writeSceneSideViews(from.keepSideViews, manifest, scene, synthesizedFrames);
     ++result.scenes;
   }
   bar.finish();

@@ -11,8 +11,12 @@
 // frames and the renders of their densities reconstructed from them (teacher forcing): what each frame's
 // synthesis gets right from true history, to tell errors that accumulate over the rollout (drift) from
 // frames that are harder in themselves.
+// The rollout can run on the training split instead, and keep its side views in a folder
+// (pipeline/dataset/synthesised_side_views.h) for training NvRef on the side views inference gives it; a
+// rollout into a folder that holds some scenes already reuses them, so a long one resumes.
 #pragma once
 
+#include <filesystem>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -42,12 +46,17 @@ struct RolloutResult {
 
 enum class RolloutHistory { Own, Truth };
 
+struct RolloutScenes {
+  bool training = false;                // the training split's scenes, not the held-out ones
+  std::filesystem::path keepSideViews;  // when set: the side views kept there, and those already there reused
+};
+
 // Rolls out `frames` frames from scene frame `firstFrame` (0: from the start of the simulation; later: footage
 // that begins with smoke already in view, SvDiff-init starting on the frames there) on up to `scenes` validation
-// scenes that have firstFrame + frames frames; with
-// `progress`, a progress line over those scenes' frames on stderr (pipeline/progress.h).
+// scenes (or training scenes) that have firstFrame + frames frames; with `progress`, a progress line over those
+// scenes' frames on stderr (pipeline/progress.h).
 RolloutResult sideViewRollout(Context& context, MethodModels& models, const dataset::SceneDataset& data, int firstFrame,
                               int frames, int scenes, const SideViewOptions& options, RolloutHistory history = RolloutHistory::Own,
-                              bool progress = false);
+                              bool progress = false, const RolloutScenes& from = {});
 
 }  // namespace smokesvd::reconstruct

@@ -46,17 +46,17 @@ NvRefTrainer::Batch::Batch(Context& context, const Preset& p, int n) : views(n) 
   const std::vector<Camera> frontCameras(networks::kSlots, networks::orbitCameraAt(p, 0));
   fronts = render::uploadViews(context, frontCameras);
   const Shape volume = p.grid.volume();
-  current = variable(Tensor(context, volume));
-  previous = variable(Tensor(context, volume));
-  beforePrevious = variable(Tensor(context, volume));
-  mirrored = variable(Tensor(context, volume));
-  mirroredPrevious = variable(Tensor(context, volume));
-  mirroredBeforePrevious = variable(Tensor(context, volume));
+  const Shape slotImages{networks::kSlots, 1, p.imageHeight, p.imageWidth};
+  for (Frame& frame : frames) {
+    frame.density = variable(Tensor(context, volume));
+    frame.mirrored = variable(Tensor(context, volume));
+    frame.synthesised = variable(Tensor(context, slotImages));
+  }
   known = variable(Tensor(context, {networks::kSlots}));
   knownWithoutSide = variable(Tensor(context, {networks::kSlots}));
-  std::vector<float> side(networks::kSlots, 0.0f);
-  side[networks::kSideSlot] = 1.0f;
-  sideOnly = variable(Tensor::fromHost(context, {networks::kSlots}, side));
+  std::vector<float> sideSlot(networks::kSlots, 0.0f);
+  sideSlot[networks::kSideSlot] = 1.0f;
+  sideOnly = variable(Tensor::fromHost(context, {networks::kSlots}, sideSlot));
   usePrevious = variable(Tensor(context, {n}));
   const Shape images{n, 1, p.imageHeight, p.imageWidth};
   black = variable(Tensor::fromHost(context, images, std::vector<float>(static_cast<std::size_t>(numElements(images)), 0.0f)));
@@ -69,7 +69,9 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
       batch_(context, data.preset(), kBatch) {
   const std::string lossWhere = config.source + " [loss]", optionsWhere = config.source + " [options]";
   models::requireKnownKeys(config.loss, {"mse", "l1", "mean_residual", "row_sum", "psnr_gap"}, lossWhere);
-  models::requireKnownKeys(config.options, {"beta", "coarse_model", "mirrored_side", "history", "psnr_reference"}, optionsWhere);
+  models::requireKnownKeys(config.options,
+                           {"beta", "coarse_model", "mirrored_side", "synthesised_side", "side_views", "history", "psnr_reference"},
+                           optionsWhere);
   weights_ = {networks::number(config.loss, "mse", lossWhere), networks::number(config.loss, "l1", lossWhere),
               networks::number(config.loss, "mean_residual", lossWhere), networks::number(config.loss, "row_sum", lossWhere),
               networks::number(config.loss, "psnr_gap", lossWhere)};
@@ -77,6 +79,15 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
   if (!(beta_ > 0 && beta_ < 90)) throw Error(optionsWhere + ": 'beta' must be in (0, 90) degrees");
   if (config.options.contains("mirrored_side")) mirroredSide_ = networks::number(config.options, "mirrored_side", optionsWhere);
   if (!(mirroredSide_ >= 0 && mirroredSide_ <= 1)) throw Error(optionsWhere + ": 'mirrored_side' must be a probability in [0, 1]");
+  if (config.options.contains("synthesised_side"))
+    synthesisedSide_ = networks::number(config.options, "synthesised_side", optionsWhere);
+  if (!(synthesisedSide_ >= 0 && synthesisedSide_ <= 1 - mirroredSide_))
+    throw Error(optionsWhere + ": 'synthesised_side' must be a probability in [0, 1 - mirrored_side]");
+  if (config.options.contains("side_views"))
+    sideViews_.emplace(networks::text(config.options, "side_views", optionsWhere), data);
+  if (synthesisedSide_ > 0 && (!sideViews_ || sideViews_->training().empty()))
+    throw Error(optionsWhere + ": 'synthesised_side' needs 'side_views', a folder of SvDiff's side views of training scenes "
+                               "(`smokesvd rollout --split training --keep-side-views DIR`)");
   if (config.options.contains("history")) {
     const std::string history = networks::text(config.options, "history", optionsWhere);
     if (history != "truth" && history != "coarse" && history != "self")
@@ -96,7 +107,7 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
 }
 
 int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int frame, const Augmentation& a, int stage,
-                         const std::vector<int>& slots, const std::vector<float>& usePrevious, bool mirroredSide) {
+                         const std::vector<int>& slots, const std::vector<float>& usePrevious, Side side) {
   const Preset& p = data_.preset();
   std::vector<Camera> targets, around;
   for (const int slot : slots) targets.push_back(networks::orbitCameraAt(p, networks::slotAngle(slot)));
@@ -104,22 +115,28 @@ int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int fra
     for (const int slot : slots) around.push_back(networks::orbitCameraAt(p, networks::slotAngle(slot) + sign * beta_));
   render::rewriteViews(batch.targets, targets);
   render::rewriteViews(batch.around, around);
-  batch.current->value.upload(augmentedDensity(data_, scene, frame, a));
-  batch.previous->value.upload(augmentedDensity(data_, scene, frame - 1, a));
-  batch.beforePrevious->value.upload(augmentedDensity(data_, scene, frame - 2, a));
   const std::vector<float> known = knownBefore(stage);
   batch.known->value.upload(known);
-  batch.mirroredSide = mirroredSide;
-  if (mirroredSide) {
+  batch.side = side;
+  if (side != Side::True) {
     std::vector<float> withoutSide = known;
     withoutSide[networks::kSideSlot] = 0.0f;
     batch.knownWithoutSide->value.upload(withoutSide);
-    Augmentation flipped = a;
-    flipped.mirror = !a.mirror;
-    batch.mirrored->value.upload(augmentedDensity(data_, scene, frame, flipped));
-    if (history_ != History::Truth) {
-      batch.mirroredPrevious->value.upload(augmentedDensity(data_, scene, frame - 1, flipped));
-      batch.mirroredBeforePrevious->value.upload(augmentedDensity(data_, scene, frame - 2, flipped));
+  }
+  Augmentation flipped = a;
+  flipped.mirror = !a.mirror;
+  // The earlier frames' side views are needed only where the history is reconstructed from them.
+  const int sideFrames = history_ == History::Truth ? 1 : 3;
+  for (int back = 0; back < 3; ++back) {
+    Frame& f = batch.frames[static_cast<std::size_t>(back)];
+    f.density->value.upload(augmentedDensity(data_, scene, frame - back, a));
+    if (back >= sideFrames) continue;
+    if (side == Side::Mirrored) f.mirrored->value.upload(augmentedDensity(data_, scene, frame - back, flipped));
+    if (side == Side::Synthesised) {
+      const std::vector<float> image = sideViews_->side(scene, frame - back);
+      std::vector<float> inSideSlot(image.size() * networks::kSlots, 0.0f);
+      std::copy(image.begin(), image.end(), inSideSlot.begin() + static_cast<std::ptrdiff_t>(image.size() * networks::kSideSlot));
+      f.synthesised->value.upload(inSideSlot);
     }
   }
   batch.usePrevious->value.upload(usePrevious);
@@ -127,26 +144,39 @@ int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int fra
 }
 
 int NvRefTrainer::prepare(int64_t, diffusion::Gaussian& random) {
-  const FrameDraw draw = drawFrames(data_.training(), 1, 2, random);
-  const Augmentation a = drawAugmentation(config_.data, random);
+  FrameDraw draw = drawFrames(data_.training(), 1, 2, random);
+  Augmentation a = drawAugmentation(config_.data, random);
   const int stage = std::min(2, static_cast<int>(random.uniform() * 3));
   std::vector<int> slots = stageSlots(stage);
   while (slots.size() > kBatch) slots.erase(slots.begin() + static_cast<std::ptrdiff_t>(random.uniform() * static_cast<double>(slots.size())));
   std::vector<float> usePrevious;
   for (int i = 0; i < kBatch; ++i) usePrevious.push_back(random.uniform() < 0.1 ? 0.0f : 1.0f);
-  const bool mirroredSide = mirroredSide_ > 0 && random.uniform() < mirroredSide_;
-  return upload(batch_, *draw.scene, draw.frame, a, stage, slots, usePrevious, mirroredSide) + (mirroredSide ? 2 : 0);
+  Side side = Side::True;
+  if (mirroredSide_ > 0 || synthesisedSide_ > 0) {
+    const double u = random.uniform();
+    side = u < mirroredSide_ ? Side::Mirrored : u < mirroredSide_ + synthesisedSide_ ? Side::Synthesised : Side::True;
+  }
+  if (side == Side::Synthesised) {
+    // A frame that SvDiff's rollout reached, as the scene was simulated.
+    draw = drawFrames(sideViews_->training(), 1, sideViews_->manifest().firstFrame + 2, random);
+    a = Augmentation{};
+  }
+  return upload(batch_, *draw.scene, draw.frame, a, stage, slots, usePrevious, side) + 2 * static_cast<int>(side);
 }
 
-// The coarse G_rho's density of `volume` from the views known at the batch's stage; the side slot's view
-// is the mirrored front view (the front render of `mirrored`) where the sample draws it so.
-Var NvRefTrainer::coarseDensity(Tape& tape, Batch& batch, const Var& volume, const Var& mirrored,
-                                const render::RenderSettings& settings) {
-  const Var views = diff::render(tape, volume, coarse_->views(), settings);
-  const Var known = batch.mirroredSide
-                        ? fn::add(tape, fn::mulSample(tape, views, batch.knownWithoutSide),
-                                  fn::mulSample(tape, diff::render(tape, mirrored, batch.fronts, settings), batch.sideOnly))
-                        : fn::mulSample(tape, views, batch.known);
+// The coarse G_rho's density of a frame from the views known at the batch's stage; the side slot's view is
+// the mirrored front view (the front render of the mirrored density) or SvDiff's, as the sample draws it.
+Var NvRefTrainer::coarseDensity(Tape& tape, Batch& batch, const Frame& frame, const render::RenderSettings& settings) {
+  const Var views = diff::render(tape, frame.density, coarse_->views(), settings);
+  Var known;
+  switch (batch.side) {
+    case Side::True: known = fn::mulSample(tape, views, batch.known); break;
+    case Side::Mirrored:
+      known = fn::add(tape, fn::mulSample(tape, views, batch.knownWithoutSide),
+                      fn::mulSample(tape, diff::render(tape, frame.mirrored, batch.fronts, settings), batch.sideOnly));
+      break;
+    case Side::Synthesised: known = fn::add(tape, fn::mulSample(tape, views, batch.knownWithoutSide), frame.synthesised); break;
+  }
   return coarse_->forward(tape, known, batch.known).density;
 }
 
@@ -155,17 +185,17 @@ NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const rende
   Var minus, plus, previous, beforePrevious;
   {
     NoGrad noGrad(tape);
-    const Var coarse = coarseDensity(tape, batch, batch.current, batch.mirrored, settings);
+    const Var coarse = coarseDensity(tape, batch, batch.frames[0], settings);
     images.render = diff::render(tape, coarse, batch.targets, settings);
     const Var around = diff::render(tape, coarse, batch.around, settings);
     minus = group(tape, around, 0, batch.views);
     plus = group(tape, around, 1, batch.views);
-    images.truth = diff::render(tape, batch.current, batch.targets, settings);
+    images.truth = diff::render(tape, batch.frames[0].density, batch.targets, settings);
     // Where a previous frame stands in for nothing (frames 0 and 1), the coarse render takes its place.
     const Var instead = fn::sub(tape, variable(Tensor::fromHost(context_, {batch.views}, std::vector<float>(static_cast<std::size_t>(batch.views), 1.0f))),
                                 batch.usePrevious);
-    auto standIn = [&](const Var& volume, const Var& mirrored) {
-      const Var density = history_ == History::Truth ? volume : coarseDensity(tape, batch, volume, mirrored, settings);
+    auto standIn = [&](const Frame& frame) {
+      const Var density = history_ == History::Truth ? frame.density : coarseDensity(tape, batch, frame, settings);
       Var history = diff::render(tape, density, batch.targets, settings);
       if (history_ == History::Self) {
         // That frame refined as the first frames are (its render standing in for its own history),
@@ -177,8 +207,8 @@ NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const rende
       }
       return fn::add(tape, fn::mulSample(tape, history, batch.usePrevious), fn::mulSample(tape, images.render, instead));
     };
-    previous = standIn(batch.previous, batch.mirroredPrevious);
-    beforePrevious = standIn(batch.beforePrevious, batch.mirroredBeforePrevious);
+    previous = standIn(batch.frames[1]);
+    beforePrevious = standIn(batch.frames[2]);
   }
   const networks::RefinerOutput out = refiner_.forward(tape, images.render, minus, plus, previous, beforePrevious);
   images.refined = out.refined;
@@ -188,7 +218,7 @@ NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const rende
 
 LossTerms NvRefTrainer::record(Tape& tape, int variant) {
   // The side view decides which kernels the recording holds, so it is part of the variant.
-  batch_.mirroredSide = variant >= 2;
+  batch_.side = static_cast<Side>(variant / 2);
   const Images images = forward(tape, batch_, look_.settings(variant % 2 == 1));
   LossTerms terms;
   auto weighted = [&](const char* name, double weight, const Var& loss) {
@@ -211,14 +241,18 @@ std::vector<Metric> NvRefTrainer::validate() {
   for (int stage = 0; stage < 3; ++stage)
     batches.push_back(std::make_unique<Batch>(context_, data_.preset(), static_cast<int>(stageSlots(stage).size())));
   std::vector<Metric> metrics;
-  for (const bool mirroredSide : {false, true}) {
+  std::vector<Side> sides{Side::True, Side::Mirrored};
+  if (sideViews_ && !sideViews_->validation().empty()) sides.push_back(Side::Synthesised);
+  for (const Side side : sides) {
     std::vector<double> refined(3, 0.0), unrefined(3, 0.0);
     for (int k = 0; k < samples; ++k) {
-      const FrameDraw draw = validationFrames(data_.validation(), k, samples, 1, 2);
+      const FrameDraw draw = side == Side::Synthesised
+                                 ? validationFrames(sideViews_->validation(), k, samples, 1, sideViews_->manifest().firstFrame + 2)
+                                 : validationFrames(data_.validation(), k, samples, 1, 2);
       for (int stage = 0; stage < 3; ++stage) {
         Batch& batch = *batches[static_cast<std::size_t>(stage)];
         const int variant = upload(batch, *draw.scene, draw.frame, Augmentation{}, stage, stageSlots(stage),
-                                   std::vector<float>(static_cast<std::size_t>(batch.views), 1.0f), mirroredSide);
+                                   std::vector<float>(static_cast<std::size_t>(batch.views), 1.0f), side);
         Stream stream(context_);
         Tape tape(stream);
         NoGrad noGrad(tape);
@@ -235,7 +269,7 @@ std::vector<Metric> NvRefTrainer::validate() {
         }
       }
     }
-    const std::string suffix = mirroredSide ? "_mirrored" : "";
+    const std::string suffix = side == Side::Mirrored ? "_mirrored" : side == Side::Synthesised ? "_synthesised" : "";
     double gain = 0;
     for (int stage = 0; stage < 3; ++stage) gain += (refined[static_cast<std::size_t>(stage)] - unrefined[static_cast<std::size_t>(stage)]) / samples / 3;
     metrics.push_back({"psnr_gain" + suffix, gain});
@@ -247,7 +281,9 @@ std::vector<Metric> NvRefTrainer::validate() {
   return metrics;
 }
 
-std::string NvRefTrainer::dataSummary() const { return describeData(data_) + "; coarse densities from the trained grho-coarse"; }
+std::string NvRefTrainer::dataSummary() const {
+  return describeData(data_) + "; coarse densities from the trained grho-coarse" + (sideViews_ ? "; " + sideViews_->describe() : "");
+}
 
 double NvRefTrainer::forwardFlops() {
   Stream stream(context_);

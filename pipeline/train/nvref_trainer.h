@@ -18,14 +18,21 @@
 // history). At inference the side view is synthesised, not true: with probability
 // options.mirrored_side (default 0) a sample's coarse density is reconstructed with the mirrored front
 // view in the side slot instead (the front render of the x-mirrored volume), so that NvRef also learns
-// from the blurrier, wrongly deep densities it is given in practice. Validation: the PSNR of the refined
-// and of the unrefined renders against the truth at the near, mid and far views, with the true side view
-// and (suffix _mirrored) with the mirrored front view.
+// from the blurrier, wrongly deep densities it is given in practice; with probability
+// options.synthesised_side the side slot holds SvDiff's own side view of that frame, from a rollout of
+// training scenes kept in the folder options.side_views (pipeline/dataset/synthesised_side_views.h; such
+// samples are not augmented: the side views were synthesised for the scene as simulated), the side
+// views inference gives it. Validation: the PSNR of the refined and of the unrefined renders against the
+// truth at the near, mid and far views, with the true side view, (suffix _mirrored) with the mirrored
+// front view and, where options.side_views holds held-out scenes, (suffix _synthesised) with SvDiff's.
 #pragma once
 
+#include <array>
 #include <memory>
+#include <optional>
 
 #include "pipeline/dataset/scene_dataset.h"
+#include "pipeline/dataset/synthesised_side_views.h"
 #include "pipeline/networks/density_generator.h"
 #include "pipeline/networks/network_config.h"
 #include "pipeline/networks/refiner.h"
@@ -42,8 +49,10 @@ class NvRefTrainer : public StageTrainer {
                const std::filesystem::path& models);
 
   modules::Module& model() override { return refiner_.net(); }
-  // The look (unlit, lit) times the side view of the coarse density (true, mirrored front view).
-  std::vector<std::string> variants() const override { return {"unlit", "lit", "unlit-mirrored-side", "lit-mirrored-side"}; }
+  // The look (unlit, lit) times the side view of the coarse density (true, mirrored front view, synthesised).
+  std::vector<std::string> variants() const override {
+    return {"unlit", "lit", "unlit-mirrored-side", "lit-mirrored-side", "unlit-synthesised-side", "lit-synthesised-side"};
+  }
   int prepare(int64_t step, diffusion::Gaussian& random) override;
   LossTerms record(Tape& tape, int variant) override;
   std::vector<Metric> validate() override;
@@ -54,34 +63,42 @@ class NvRefTrainer : public StageTrainer {
   struct Weights {
     double mse, l1, meanResidual, rowSum, psnrGap;
   };
+  // What the coarse G_rho is given in the side slot.
+  enum class Side { True, Mirrored, Synthesised };
+  // One frame of a sample: t, t-1 or t-2.
+  struct Frame {
+    Var density;      // the true density
+    Var mirrored;     // the same, mirrored in x (Side::Mirrored only)
+    Var synthesised;  // [16, 1, h, w]: SvDiff's side view in the side slot, 0 elsewhere (Side::Synthesised only)
+  };
   // The batch the recordings read: N target slots of one stage.
   struct Batch {
     explicit Batch(Context& context, const Preset& preset, int views);
     int views;
     render::ViewSet targets, around;  // the N target views; the 2N views at -beta and +beta
     render::ViewSet fronts;           // 16 front cameras: the mirrored front view for every slot
-    Var current, previous, beforePrevious;                      // the true densities at t, t-1, t-2
-    Var mirrored, mirroredPrevious, mirroredBeforePrevious;     // the same, mirrored in x (mirrored side only)
+    std::array<Frame, 3> frames;      // t, t-1, t-2
     Var known, usePrevious;     // [16] the slots known at the stage; [N] 0 where the render stands in for history
-    Var knownWithoutSide;       // [16] known, less the side slot (mirrored side only)
+    Var knownWithoutSide;       // [16] known, less the side slot (a side view other than the true one)
     Var sideOnly;               // [16] 1 at the side slot, 0 elsewhere (constant)
     Var black;                  // [N, 1, h, w] zeros: the PSNR term's reference with psnr_reference "black"
-    bool mirroredSide = false;  // this sample's side slot holds the mirrored front view
+    Side side = Side::True;
   };
   int upload(Batch& batch, const dataset::SceneEntry& scene, int frame, const Augmentation& a, int stage,
-             const std::vector<int>& slots, const std::vector<float>& usePrevious, bool mirroredSide);
+             const std::vector<int>& slots, const std::vector<float>& usePrevious, Side side);
   struct Images {
     Var truth, render, refined, residual;
   };
   Images forward(Tape& tape, Batch& batch, const render::RenderSettings& settings);
-  Var coarseDensity(Tape& tape, Batch& batch, const Var& volume, const Var& mirrored, const render::RenderSettings& settings);
+  Var coarseDensity(Tape& tape, Batch& batch, const Frame& frame, const render::RenderSettings& settings);
 
   Context& context_;
   networks::NetworkConfig config_;
   const dataset::SceneDataset& data_;
   Weights weights_{};
   double beta_ = 22.5;
-  double mirroredSide_ = 0.0;
+  double mirroredSide_ = 0.0, synthesisedSide_ = 0.0;
+  std::optional<dataset::SynthesisedSideViews> sideViews_;  // options.side_views
   enum class History { Truth, Coarse, Self };
   History history_ = History::Truth;  // options.history
   bool psnrAgainstBlack_ = false;      // options.psnr_reference == "black"

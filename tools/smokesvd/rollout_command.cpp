@@ -1,5 +1,6 @@
 // `smokesvd rollout --data DIR --models DIR`: SvDiff's autoregressive rollout on held-out scenes against
-// the mirrored front view (pipeline/reconstruct/side_view_rollout.h); prints a summary, writes JSON.
+// the mirrored front view (pipeline/reconstruct/side_view_rollout.h); prints a summary, writes JSON; with
+// --keep-side-views, keeps the side views for training NvRef on them (also of the training split).
 #include <fstream>
 #include <iostream>
 
@@ -19,7 +20,7 @@ struct RolloutArguments {
   int firstFrame = 0, frames = 40, scenes = 6;
   reconstruct::SideViewOptions sampling;  // --seed, --ddim-steps, --init-steps, --eta, --side-view-start, --side-samples, --init-share
   int validationEvery = 10;
-  std::string history = "own";
+  std::string history = "own", split = "validation", keepSideViews;
   bool quiet = false;
 };
 
@@ -34,7 +35,12 @@ void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& actio
                 "with smoke in view)")
       ->check(wholeNumber(0, sim::kMaxFrames - 1));
   c->add_option("--frames", a.frames, "frames of the rollout (default 40)")->check(wholeNumber(1, sim::kMaxFrames));
-  c->add_option("--scenes", a.scenes, "validation scenes to roll out (default 6)")->check(wholeNumber(1, 100000));
+  c->add_option("--scenes", a.scenes, "scenes of the split to roll out, the first ones (default 6)")->check(wholeNumber(1, 100000));
+  c->add_option("--split", a.split, "validation (default): the held-out scenes; training: the training scenes, for --keep-side-views")
+      ->check(CLI::IsMember({"validation", "training"}));
+  c->add_option("--keep-side-views", a.keepSideViews,
+                "folder to keep the side views in (rollout.json, scene_NNNN.npy), for NvRef's options.side_views; "
+                "scenes already there are reused, so a stopped rollout resumes");
   c->add_option("--validation-every", a.validationEvery, "the dataset's split: every N-th scene is held out (default 10)")
       ->check(wholeNumber(1, 100000));
   addSideViewSamplingFlags(*c, a.sampling);
@@ -55,8 +61,9 @@ void addRolloutCommand(CLI::App& app, const GlobalOptions& global, Action& actio
       const reconstruct::RolloutResult r =
           reconstruct::sideViewRollout(context, models, data, a.firstFrame, a.frames, a.scenes, a.sampling,
                                        a.history == "truth" ? reconstruct::RolloutHistory::Truth : reconstruct::RolloutHistory::Own,
-                                       !a.quiet);
-      std::cout << (r.trueHistory ? "side views from true history" : "side views") << " over " << a.frames << " frames from frame " << a.firstFrame << " of " << r.scenes << " held-out scenes: PSNR " << r.mean()
+                                       !a.quiet, {a.split == "training", a.keepSideViews});
+      std::cout << (r.trueHistory ? "side views from true history" : "side views") << " over " << a.frames << " frames from frame " << a.firstFrame << " of " << r.scenes
+                << (a.split == "training" ? " training scenes" : " held-out scenes") << ": PSNR " << r.mean()
                 << " dB (mirrored front view " << r.mirroredMean() << " dB, all-black " << r.blackMean()
                 << " dB); first 10 frames " << r.firstTen() << " dB (mirrored " << r.mirroredFirstTen() << "), last 10 "
                 << r.lastTen() << " dB (mirrored " << r.mirroredLastTen() << "); the previous frame's true side view, copied, "

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "pipeline/dataset/scene_dataset.h"
+#include "pipeline/dataset/synthesised_side_views.h"
 #include "pipeline/networks/network_config.h"
 #include "pipeline/reconstruct/side_view_rollout.h"
 #include "pipeline/train/make_trainer.h"
@@ -65,6 +66,45 @@ TEST_F(SideViewRolloutTest, GivesEveryFrameBesideTheMirroredFrontViewAndTheBlack
     FAIL() << "a 9-frame rollout of 8-frame scenes was accepted";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("no validation scene has the 9 frames"), std::string::npos) << e.what();
+  }
+}
+
+// A rollout of the training split keeps its side views (rollout.json, one .npy per scene) for NvRef's training; a
+// rollout into the same folder reuses them instead of sampling again, and one that differs is refused.
+TEST_F(SideViewRolloutTest, KeepsItsSideViewsAndReusesThem) {
+  const dataset::SceneDataset data = tinyData();
+  reconstruct::MethodModels models(context(), tinyModels(), preset("tiny"));
+  const reconstruct::SideViewOptions options = fewSteps(100);
+  const fs::path folder = tinyScratch("kept_side_views");
+  reconstruct::RolloutScenes from;
+  from.training = true;
+  from.keepSideViews = folder;
+  const reconstruct::RolloutResult a = reconstruct::sideViewRollout(context(), models, data, 0, 5, 2, options,
+                                                                    reconstruct::RolloutHistory::Own, false, from);
+  EXPECT_EQ(a.scenes, 2);
+  const dataset::SynthesisedSideViews kept(folder, data);
+  ASSERT_EQ(kept.training().size(), 2u);
+  EXPECT_TRUE(kept.validation().empty());
+  EXPECT_EQ(kept.training()[0].frames, 5);  // cut to the frames the rollout reached
+  EXPECT_EQ(kept.side(kept.training()[0], 4).size(), static_cast<std::size_t>(preset("tiny").imageHeight * preset("tiny").imageWidth));
+  // Rolled out again into the folder, the kept side views are this rollout's: black ones score the black floor.
+  const reconstruct::RolloutResult again = reconstruct::sideViewRollout(context(), models, data, 0, 5, 2, options,
+                                                                        reconstruct::RolloutHistory::Own, false, from);
+  EXPECT_EQ(again.psnr, a.psnr);
+  const dataset::SideViewRolloutManifest m = kept.manifest();
+  dataset::writeSceneSideViews(folder, m, kept.training()[0],
+                               std::vector<float>(static_cast<std::size_t>(m.frames * m.height * m.width), 0.0f));
+  const reconstruct::RolloutResult black = reconstruct::sideViewRollout(context(), models, data, 0, 5, 1, options,
+                                                                        reconstruct::RolloutHistory::Own, false, from);
+  EXPECT_EQ(black.psnr, black.black);
+  // Another rollout into the same folder is refused with the field that differs.
+  try {
+    reconstruct::SideViewOptions other = options;
+    other.seed = 3;
+    reconstruct::sideViewRollout(context(), models, data, 0, 5, 1, other, reconstruct::RolloutHistory::Own, false, from);
+    FAIL() << "a rollout of another seed reused the folder";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'sampling' is"), std::string::npos) << e.what();
   }
 }
 

@@ -11,6 +11,7 @@
 
 #include "nets/io/safetensors.h"
 #include "pipeline/dataset/scene_dataset.h"
+#include "pipeline/dataset/synthesised_side_views.h"
 #include "pipeline/networks/network_config.h"
 #include "pipeline/train/make_trainer.h"
 #include "pipeline/train/training_run.h"
@@ -173,6 +174,69 @@ TEST_F(TrainingTest, NvRefTrainsOnTheMirroredSideViewAndItsOwnHistory) {
                 "an unknown PSNR reference");
 }
 
+// A folder of side views of every tiny scene's frames 0 .. frames-1, as `smokesvd rollout --keep-side-views` keeps
+// them; here uniform noise in [0, 0.5): the trainer does not care where they come from.
+fs::path tinySideViews(const std::string& name, int frames, int height = preset("tiny").imageHeight) {
+  const fs::path folder = scratch(name);
+  dataset::SideViewRolloutManifest m;
+  m.preset = "tiny";
+  m.frames = frames;
+  m.height = height;
+  m.width = preset("tiny").imageWidth;
+  m.how = {{"history", "own"}, {"sampling", {{"seed", 0}}}};
+  dataset::prepareSideViewFolder(folder, m);
+  dataset::DatasetOptions options;
+  options.validationEvery = 4;
+  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  diffusion::Gaussian random(17);
+  for (const auto* split : {&data.training(), &data.validation()})
+    for (const dataset::SceneEntry& scene : *split) {
+      std::vector<float> sides(static_cast<std::size_t>(frames * m.height * m.width));
+      for (float& v : sides) v = static_cast<float>(0.5 * random.uniform());
+      dataset::writeSceneSideViews(folder, m, scene, sides);
+    }
+  return folder;
+}
+
+// NvRef with SvDiff's side views (options.side_views, options.synthesised_side) in the side slot of every
+// sample, on its own history: it trains, the model card names the side views, and validation reports the
+// refinement with them beside the true and the mirrored side view.
+TEST_F(TrainingTest, NvRefTrainsOnSynthesisedSideViews) {
+  networks::NetworkConfig config = tinyConfig(networks::Network::NvRef, 3);
+  config.options["side_views"] = tinySideViews("nvref_side_views", 6).string();
+  config.options["synthesised_side"] = 1.0;
+  config.options["history"] = "self";
+  const fs::path out = scratch("nvref_synthesised") / "nvref";
+  EXPECT_TRUE(trainTiny(config, out, -1, false, tinyModels()).complete);
+  std::ifstream losses(out / "loss.csv");
+  const std::string lossText((std::istreambuf_iterator<char>(losses)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(lossText.find("nan"), std::string::npos) << lossText;
+  std::ifstream csv(out / "validation.csv");
+  std::string header, row;
+  ASSERT_TRUE(std::getline(csv, header) && std::getline(csv, row));
+  for (const char* column : {"psnr_gain,", "psnr_gain_mirrored,", "psnr_gain_synthesised,", "psnr_refined_far_synthesised"})
+    EXPECT_NE(header.find(column), std::string::npos) << header;
+  EXPECT_EQ(row.find("nan"), std::string::npos) << row;
+  std::ifstream card(out / "model_card.md");
+  const std::string cardText((std::istreambuf_iterator<char>(card)), std::istreambuf_iterator<char>());
+  EXPECT_NE(cardText.find("SvDiff's side views of 3 training and 1 held-out scenes, frames 0-5"), std::string::npos) << cardText;
+}
+
+TEST_F(TrainingTest, NvRefsSideViewOptionsAreChecked) {
+  networks::NetworkConfig config = tinyConfig(networks::Network::NvRef, 3);
+  config.options["synthesised_side"] = 0.5;
+  expectRefused(config, "nvref_no_side_views", "'synthesised_side' needs 'side_views'", "synthesised sides without a folder");
+  config.options["side_views"] = scratch("nvref_empty_side_views").string();
+  expectRefused(config, "nvref_empty", "rollout.json: missing; make the side views with `smokesvd rollout --split training",
+                "a folder without a rollout");
+  config.options["side_views"] = tinySideViews("nvref_tall_side_views", 4, preset("tiny").imageHeight + 1).string();
+  expectRefused(config, "nvref_tall", "expected the tiny preset's", "side views of another size");
+  config.options["side_views"] = tinySideViews("nvref_good_side_views", 4).string();
+  config.options["mirrored_side"] = 0.6;
+  expectRefused(config, "nvref_shares", "'synthesised_side' must be a probability in [0, 1 - mirrored_side]",
+                "shares of the side views above 1");
+}
+
 // A training step is recorded once per variant and resubmitted on every later sample of that variant, so
 // whatever decides the recorded kernels (the look, the side view, the kind of input views) must be part
 // of the variant: the resubmitted recording must give the loss that a fresh recording of the same sample
@@ -218,6 +282,10 @@ TEST_F(TrainingTest, ARecordedStepResubmittedOnAnotherSampleGivesThatSamplesLoss
   networks::NetworkConfig nvref = tinyConfig(networks::Network::NvRef, 3);
   nvref.options["mirrored_side"] = 0.5;
   expectRecordingsFollowTheirSamples(nvref, 2);
+  nvref.options["mirrored_side"] = 0.3;
+  nvref.options["synthesised_side"] = 0.4;
+  nvref.options["side_views"] = tinySideViews("recorded_side_views", 8).string();
+  expectRecordingsFollowTheirSamples(nvref, 3);
   networks::NetworkConfig fine = tinyConfig(networks::Network::GrhoFine, 3);
   fine.options["inference_views"] = 0.7;
   fine.options["mirrored_side"] = 0.5;
