@@ -71,6 +71,12 @@ void writeSceneSideViews(const fs::path& folder, const SideViewRolloutManifest& 
   io::writeNpy(sceneFile(folder, scene), io::NpyArray::fromFloats({manifest.frames, manifest.height, manifest.width}, sides));
 }
 
+std::vector<float> sideViewAt(const std::vector<float>& sides, const SideViewRolloutManifest& manifest, int k) {
+  const std::size_t pixels = static_cast<std::size_t>(manifest.height) * static_cast<std::size_t>(manifest.width);
+  const auto begin = sides.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(k) * pixels);
+  return {begin, begin + static_cast<std::ptrdiff_t>(pixels)};
+}
+
 SynthesisedSideViews::SynthesisedSideViews(const fs::path& folder, const SceneDataset& data) : folder_(folder) {
   const fs::path path = folder / kManifest;
   if (!fs::exists(path))
@@ -107,9 +113,7 @@ std::vector<float> SynthesisedSideViews::side(const SceneEntry& scene, int frame
     throw Error(folder_.string() + ": frame " + std::to_string(frame) + " of " + scene.directory.filename().string() +
                 " outside the rollout's frames " + std::to_string(manifest_.firstFrame) + "-" +
                 std::to_string(manifest_.firstFrame + manifest_.frames - 1));
-  const std::size_t pixels = static_cast<std::size_t>(manifest_.height) * static_cast<std::size_t>(manifest_.width);
-  const auto begin = found->second.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(k) * pixels);
-  return {begin, begin + static_cast<std::ptrdiff_t>(pixels)};
+  return sideViewAt(found->second, manifest_, k);
 }
 
 std::string SynthesisedSideViews::describe() const {

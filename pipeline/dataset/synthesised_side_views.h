@@ -38,6 +38,8 @@ std::optional<std::vector<float>> readSceneSideViews(const std::filesystem::path
                                                      const SceneEntry& scene);
 void writeSceneSideViews(const std::filesystem::path& folder, const SideViewRolloutManifest& manifest, const SceneEntry& scene,
                          const std::vector<float>& sides);
+// Frame k (0 .. frames-1) of a scene's side views as read or written above: [h * w].
+std::vector<float> sideViewAt(const std::vector<float>& sides, const SideViewRolloutManifest& manifest, int k);
 
 // A folder's side views for the scenes of `data` it holds, for training.
 class SynthesisedSideViews {

@@ -108,8 +108,7 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
     }
     // Side views kept by an earlier rollout into the same folder are this one's: it is deterministic.
     const std::optional<std::vector<float>> kept = keep ? dataset::readSceneSideViews(from.keepSideViews, manifest, scene) : std::nullopt;
-    const std::size_t pixels = static_cast<std::size_t>(preset.imageHeight) * static_cast<std::size_t>(preset.imageWidth);
-    std::vector<float> synthesizedFrames;
+    std::vector<float> synthesizedFrames;  // what this rollout keeps of the scene
     FrameState state(context, preset);
     const Shape image{1, 1, preset.imageHeight, preset.imageWidth};
     // Frame t's side view, and the history of the frames after it: that side view (or with true history the
@@ -140,14 +139,8 @@ RolloutResult sideViewRollout(Context& context, MethodModels& models, const data
       return side.download();
     };
     for (int t = 0; t < frames; ++t) {
-      std::vector<float> synthesized;
-      if (kept) {
-        const auto begin = kept->begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(t) * pixels);
-        synthesized.assign(begin, begin + static_cast<std::ptrdiff_t>(pixels));
-      } else {
-        synthesized = synthesizeFrame(t);
-      }
-      if (keep) synthesizedFrames.insert(synthesizedFrames.end(), synthesized.begin(), synthesized.end());
+      const std::vector<float> synthesized = kept ? dataset::sideViewAt(*kept, manifest, t) : synthesizeFrame(t);
+      if (keep && !kept) synthesizedFrames.insert(synthesizedFrames.end(), synthesized.begin(), synthesized.end());
       const std::vector<float> mirror = media::mirroredRows(fronts[static_cast<std::size_t>(t)].values, preset.imageWidth);
       result.psnr[static_cast<std::size_t>(t)] += train::psnr(synthesized, sides[static_cast<std::size_t>(t)].values);
       result.mirrored[static_cast<std::size_t>(t)] += train::psnr(mirror, sides[static_cast<std::size_t>(t)].values);

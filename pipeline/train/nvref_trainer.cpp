@@ -157,7 +157,8 @@ int NvRefTrainer::prepare(int64_t, diffusion::Gaussian& random) {
     side = u < mirroredSide_ ? Side::Mirrored : u < mirroredSide_ + synthesisedSide_ ? Side::Synthesised : Side::True;
   }
   if (side == Side::Synthesised) {
-    // A frame that SvDiff's rollout reached, as the scene was simulated.
+    // A frame that SvDiff's rollout reached, as the scene was simulated. (The draws above stay, unused here,
+    // so that configs without synthesised sides draw the same samples as before the option existed.)
     draw = drawFrames(sideViews_->training(), 1, sideViews_->manifest().firstFrame + 2, random);
     a = Augmentation{};
   }
