@@ -29,6 +29,12 @@ std::vector<float> knownBefore(int stage) {
   return known;
 }
 
+std::vector<float> slotsOf(int stage) {
+  std::vector<float> mask(networks::kSlots, 0.0f);
+  for (const int v : stageSlots(stage)) mask[static_cast<std::size_t>(v)] = 1.0f;
+  return mask;
+}
+
 // Images i*N .. (i+1)*N - 1 of a batch [k N, 1, h, w].
 Var group(Tape& tape, const Var& images, int index, int n) {
   const Shape& s = images->value.shape();
@@ -60,6 +66,16 @@ NvRefTrainer::Batch::Batch(Context& context, const Preset& p, int n) : views(n) 
   usePrevious = variable(Tensor(context, {n}));
   const Shape images{n, 1, p.imageHeight, p.imageWidth};
   black = variable(Tensor::fromHost(context, images, std::vector<float>(static_cast<std::size_t>(numElements(images)), 0.0f)));
+  for (int s = 0; s < 3; ++s) knownAt[static_cast<std::size_t>(s)] = variable(Tensor::fromHost(context, {networks::kSlots}, knownBefore(s)));
+  for (int s = 0; s < 2; ++s) stageViews[static_cast<std::size_t>(s)] = variable(Tensor::fromHost(context, {networks::kSlots}, slotsOf(s)));
+}
+
+std::vector<std::string> NvRefTrainer::variants() const {
+  std::vector<std::string> names;
+  for (const char* stage : {"", "-mid-stage", "-far-stage"})
+    for (const char* side : {"", "-mirrored-side", "-synthesised-side"})
+      for (const char* look : {"unlit", "lit"}) names.push_back(std::string(look) + side + stage);
+  return names;
 }
 
 NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& config, const dataset::SceneDataset& data,
@@ -70,7 +86,8 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
   const std::string lossWhere = config.source + " [loss]", optionsWhere = config.source + " [options]";
   models::requireKnownKeys(config.loss, {"mse", "l1", "mean_residual", "row_sum", "psnr_gap"}, lossWhere);
   models::requireKnownKeys(config.options,
-                           {"beta", "coarse_model", "mirrored_side", "synthesised_side", "side_views", "history", "psnr_reference"},
+                           {"beta", "coarse_model", "mirrored_side", "synthesised_side", "side_views", "history", "psnr_reference",
+                            "earlier_views"},
                            optionsWhere);
   weights_ = {networks::number(config.loss, "mse", lossWhere), networks::number(config.loss, "l1", lossWhere),
               networks::number(config.loss, "mean_residual", lossWhere), networks::number(config.loss, "row_sum", lossWhere),
@@ -100,6 +117,12 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
       throw Error(optionsWhere + ": 'psnr_reference' must be \"render\" or \"black\", not \"" + reference + "\"");
     psnrAgainstBlack_ = reference == "black";
   }
+  if (config.options.contains("earlier_views")) {
+    const std::string earlier = networks::text(config.options, "earlier_views", optionsWhere);
+    if (earlier != "truth" && earlier != "coarse")
+      throw Error(optionsWhere + ": 'earlier_views' must be \"truth\" or \"coarse\", not \"" + earlier + "\"");
+    coarseEarlierViews_ = earlier == "coarse";
+  }
   if (networks::text(config.options, "coarse_model", optionsWhere) != "grho-coarse")
     throw Error(optionsWhere + ": 'coarse_model' must be \"grho-coarse\"");
   coarse_ = networks::loadFrozenDensityGenerator(context, models, networks::Network::GrhoCoarse, data.preset());
@@ -115,9 +138,11 @@ int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int fra
     for (const int slot : slots) around.push_back(networks::orbitCameraAt(p, networks::slotAngle(slot) + sign * beta_));
   render::rewriteViews(batch.targets, targets);
   render::rewriteViews(batch.around, around);
-  const std::vector<float> known = knownBefore(stage);
+  // With coarse earlier views the true renders are given at the input slots only; the stages add their renders.
+  const std::vector<float> known = knownBefore(coarseEarlierViews_ ? 0 : stage);
   batch.known->value.upload(known);
   batch.side = side;
+  batch.stage = stage;
   if (side != Side::True) {
     std::vector<float> withoutSide = known;
     withoutSide[networks::kSideSlot] = 0.0f;
@@ -162,11 +187,13 @@ int NvRefTrainer::prepare(int64_t, diffusion::Gaussian& random) {
     draw = drawFrames(sideViews_->training(), 1, sideViews_->manifest().firstFrame + 2, random);
     a = Augmentation{};
   }
-  return upload(batch_, *draw.scene, draw.frame, a, stage, slots, usePrevious, side) + 2 * static_cast<int>(side);
+  return upload(batch_, *draw.scene, draw.frame, a, stage, slots, usePrevious, side) + 2 * static_cast<int>(side) +
+         (coarseEarlierViews_ ? 6 * stage : 0);
 }
 
 // The coarse G_rho's density of a frame from the views known at the batch's stage; the side slot's view is
 // the mirrored front view (the front render of the mirrored density) or SvDiff's, as the sample draws it.
+// With earlier_views "coarse" the earlier stages' slots hold the renders of the density of the stage before.
 Var NvRefTrainer::coarseDensity(Tape& tape, Batch& batch, const Frame& frame, const render::RenderSettings& settings) {
   const Var views = diff::render(tape, frame.density, coarse_->views(), settings);
   Var known;
@@ -178,7 +205,13 @@ Var NvRefTrainer::coarseDensity(Tape& tape, Batch& batch, const Frame& frame, co
       break;
     case Side::Synthesised: known = fn::add(tape, fn::mulSample(tape, views, batch.knownWithoutSide), frame.synthesised); break;
   }
-  return coarse_->forward(tape, known, batch.known).density;
+  if (!coarseEarlierViews_) return coarse_->forward(tape, known, batch.known).density;
+  Var density = coarse_->forward(tape, known, batch.knownAt[0]).density;
+  for (std::size_t s = 1; s <= static_cast<std::size_t>(batch.stage); ++s) {
+    known = fn::add(tape, known, fn::mulSample(tape, diff::render(tape, density, coarse_->views(), settings), batch.stageViews[s - 1]));
+    density = coarse_->forward(tape, known, batch.knownAt[s]).density;
+  }
+  return density;
 }
 
 NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const render::RenderSettings& settings) {
@@ -218,8 +251,10 @@ NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const rende
 }
 
 LossTerms NvRefTrainer::record(Tape& tape, int variant) {
-  // The side view decides which kernels the recording holds, so it is part of the variant.
-  batch_.side = static_cast<Side>(variant / 2);
+  // The side view (and with coarse earlier views the stage) decides which kernels the recording holds, so it
+  // is part of the variant.
+  batch_.side = static_cast<Side>(variant % 6 / 2);
+  if (coarseEarlierViews_) batch_.stage = variant / 6;
   const Images images = forward(tape, batch_, look_.settings(variant % 2 == 1));
   LossTerms terms;
   auto weighted = [&](const char* name, double weight, const Var& loss) {

@@ -25,6 +25,12 @@
 // views inference gives it. Validation: the PSNR of the refined and of the unrefined renders against the
 // truth at the near, mid and far views, with the true side view, (suffix _mirrored) with the mirrored
 // front view and, where options.side_views holds held-out scenes, (suffix _synthesised) with SvDiff's.
+// With options.earlier_views = "truth" (default) the views of the earlier stages are the true renders;
+// inference has only its own images there, so with "coarse" each stage's density is reconstructed, as
+// the reconstruction's progressive refinement does, from the input views and the renders at the earlier
+// stages' slots of the density of the stage before (the refinement of those renders left out):
+//   rho_near = G(front, side),  rho_mid = G(front, side, R(rho_near, near)),
+//   rho_far = G(front, side, R(rho_near, near), R(rho_mid, mid)).
 #pragma once
 
 #include <array>
@@ -49,10 +55,10 @@ class NvRefTrainer : public StageTrainer {
                const std::filesystem::path& models);
 
   modules::Module& model() override { return refiner_.net(); }
-  // The look (unlit, lit) times the side view of the coarse density (true, mirrored front view, synthesised).
-  std::vector<std::string> variants() const override {
-    return {"unlit", "lit", "unlit-mirrored-side", "lit-mirrored-side", "unlit-synthesised-side", "lit-synthesised-side"};
-  }
+  // The look (unlit, lit) times the side view of the coarse density (true, mirrored front view, synthesised)
+  // and, with earlier_views "coarse", times the stage (its number of coarse reconstructions): variant =
+  // look + 2 side + 6 stage.
+  std::vector<std::string> variants() const override;
   int prepare(int64_t step, diffusion::Gaussian& random) override;
   LossTerms record(Tape& tape, int variant) override;
   std::vector<Metric> validate() override;
@@ -82,7 +88,10 @@ class NvRefTrainer : public StageTrainer {
     Var knownWithoutSide;       // [16] known, less the side slot (a side view other than the true one)
     Var sideOnly;               // [16] 1 at the side slot, 0 elsewhere (constant)
     Var black;                  // [N, 1, h, w] zeros: the PSNR term's reference with psnr_reference "black"
+    std::array<Var, 3> knownAt;     // [16] the slots known at stage s (constant; earlier_views "coarse")
+    std::array<Var, 2> stageViews;  // [16] 1 at stage s's slots, s < 2 (constant; earlier_views "coarse")
     Side side = Side::True;
+    int stage = 0;
   };
   int upload(Batch& batch, const dataset::SceneEntry& scene, int frame, const Augmentation& a, int stage,
              const std::vector<int>& slots, const std::vector<float>& usePrevious, Side side);
@@ -102,6 +111,7 @@ class NvRefTrainer : public StageTrainer {
   enum class History { Truth, Coarse, Self };
   History history_ = History::Truth;  // options.history
   bool psnrAgainstBlack_ = false;      // options.psnr_reference == "black"
+  bool coarseEarlierViews_ = false;    // options.earlier_views == "coarse"
   networks::Refiner refiner_;
   std::unique_ptr<networks::DensityGenerator> coarse_;
   LookSlot look_;

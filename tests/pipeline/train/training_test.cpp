@@ -147,7 +147,10 @@ TEST_F(TrainingTest, NvRefTrainsOnTheMirroredSideViewAndItsOwnHistory) {
     networks::NetworkConfig config = tinyConfig(networks::Network::NvRef, 3);
     config.options["mirrored_side"] = 1.0;
     config.options["history"] = history;
-    if (std::string(history) == "self") config.options["psnr_reference"] = "black";
+    if (std::string(history) == "self") {
+      config.options["psnr_reference"] = "black";
+      config.options["earlier_views"] = "coarse";
+    }
     const fs::path out = scratch(std::string("nvref_") + history) / "nvref";
     EXPECT_TRUE(trainTiny(config, out, -1, false, tinyModels()).complete) << history;
     std::ifstream losses(out / "loss.csv");
@@ -172,6 +175,32 @@ TEST_F(TrainingTest, NvRefTrainsOnTheMirroredSideViewAndItsOwnHistory) {
   config.options["psnr_reference"] = "truth";
   expectRefused(config, "nvref_bad_reference", "'psnr_reference' must be \"render\" or \"black\", not \"truth\"",
                 "an unknown PSNR reference");
+  config.options["psnr_reference"] = "black";
+  config.options["earlier_views"] = "refined";
+  expectRefused(config, "nvref_bad_earlier_views", "'earlier_views' must be \"truth\" or \"coarse\", not \"refined\"",
+                "unknown earlier views");
+}
+
+// With earlier_views "coarse" the mid and far stages reconstruct their densities from the renders of the
+// stage before instead of the true views; the near stage, which has no earlier views, is the same.
+TEST_F(TrainingTest, NvRefsCoarseEarlierViewsChangeOnlyTheLaterStages) {
+  dataset::DatasetOptions options;
+  options.validationEvery = 4;
+  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  auto validation = [&](const char* earlier) {
+    networks::NetworkConfig config = tinyConfig(networks::Network::NvRef, 3);
+    config.options["earlier_views"] = earlier;
+    std::map<std::string, double> metrics;
+    for (const train::Metric& m : train::makeTrainer(testContext(), config, data, tinyModels())->validate()) metrics[m.name] = m.value;
+    return metrics;
+  };
+  const auto truth = validation("truth"), coarse = validation("coarse");
+  for (const char* kind : {"unrefined", "refined"}) {
+    const std::string name = std::string("psnr_") + kind + "_";
+    EXPECT_EQ(truth.at(name + "near"), coarse.at(name + "near")) << kind;
+    EXPECT_EQ(truth.at(name + "near_mirrored"), coarse.at(name + "near_mirrored")) << kind;
+    for (const char* stage : {"mid", "far"}) EXPECT_NE(truth.at(name + stage), coarse.at(name + stage)) << kind << " " << stage;
+  }
 }
 
 // A folder of side views of every tiny scene's frames 0 .. frames-1, as `smokesvd rollout --keep-side-views` keeps
@@ -286,6 +315,8 @@ TEST_F(TrainingTest, ARecordedStepResubmittedOnAnotherSampleGivesThatSamplesLoss
   nvref.options["synthesised_side"] = 0.4;
   nvref.options["side_views"] = tinySideViews("recorded_side_views", 8).string();
   expectRecordingsFollowTheirSamples(nvref, 3);
+  nvref.options["earlier_views"] = "coarse";
+  expectRecordingsFollowTheirSamples(nvref, 5);
   networks::NetworkConfig fine = tinyConfig(networks::Network::GrhoFine, 3);
   fine.options["inference_views"] = 0.7;
   fine.options["mirrored_side"] = 0.5;
