@@ -318,7 +318,9 @@ std::vector<Metric> NvRefTrainer::validate() {
 }
 
 std::string NvRefTrainer::dataSummary() const {
-  return describeData(data_) + "; coarse densities from the trained grho-coarse" + (sideViews_ ? "; " + sideViews_->describe() : "");
+  return describeData(data_) + "; coarse densities from the trained grho-coarse" +
+         (coarseEarlierViews_ ? ", the mid and far stages' from the renders of the stage before" : "") +
+         (sideViews_ ? "; " + sideViews_->describe() : "");
 }
 
 double NvRefTrainer::forwardFlops() {

@@ -163,6 +163,11 @@ TEST_F(TrainingTest, NvRefTrainsOnTheMirroredSideViewAndItsOwnHistory) {
     EXPECT_NE(header.find("psnr_gain,"), std::string::npos) << header;
     EXPECT_NE(header.find("psnr_refined_near_mirrored"), std::string::npos) << header;
     EXPECT_EQ(row.find("nan"), std::string::npos) << history << ": " << row;
+    std::ifstream card(out / "model_card.md");
+    const std::string cardText((std::istreambuf_iterator<char>(card)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(cardText.find("the mid and far stages' from the renders of the stage before") != std::string::npos,
+              std::string(history) == "self")
+        << cardText;
   }
   networks::NetworkConfig config = tinyConfig(networks::Network::NvRef, 3);
   config.options["mirrored_side"] = 1.5;
