@@ -28,6 +28,13 @@ fs::path scratch(const std::string& name) { return tinyScratch("training_" + nam
 
 const fs::path& tinyData() { return tinyDataset(); }
 
+// The tiny scenes split as tinyConfig's data section splits them: every 4th held out.
+dataset::SceneDataset tinySplit() {
+  dataset::DatasetOptions options;
+  options.validationEvery = 4;
+  return dataset::SceneDataset(tinyData(), preset("tiny"), options);
+}
+
 networks::NetworkConfig tinyConfig(networks::Network network, int64_t steps) {
   networks::NetworkConfig c = networks::defaultNetworkConfig("tiny", network);
   c.train.steps = steps;
@@ -43,9 +50,7 @@ networks::NetworkConfig tinyConfig(networks::Network network, int64_t steps) {
 
 train::TrainingResult trainTiny(const networks::NetworkConfig& config, const fs::path& out, int64_t stopAfter = -1,
                                 bool resume = false, const fs::path& models = {}) {
-  dataset::DatasetOptions options;
-  options.validationEvery = 4;
-  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  const dataset::SceneDataset data = tinySplit();
   const auto trainer = train::makeTrainer(testContext(), config, data, models.empty() ? out.parent_path() : models);
   train::TrainingOptions o;
   o.out = out;
@@ -189,9 +194,7 @@ TEST_F(TrainingTest, NvRefTrainsOnTheMirroredSideViewAndItsOwnHistory) {
 // With earlier_views "coarse" the mid and far stages reconstruct their densities from the renders of the
 // stage before instead of the true views; the near stage, which has no earlier views, is the same.
 TEST_F(TrainingTest, NvRefsCoarseEarlierViewsChangeOnlyTheLaterStages) {
-  dataset::DatasetOptions options;
-  options.validationEvery = 4;
-  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  const dataset::SceneDataset data = tinySplit();
   auto validation = [&](const char* earlier) {
     networks::NetworkConfig config = tinyConfig(networks::Network::NvRef, 3);
     config.options["earlier_views"] = earlier;
@@ -219,9 +222,7 @@ fs::path tinySideViews(const std::string& name, int frames, int height = preset(
   m.width = preset("tiny").imageWidth;
   m.how = {{"history", "own"}, {"sampling", {{"seed", 0}}}};
   dataset::prepareSideViewFolder(folder, m);
-  dataset::DatasetOptions options;
-  options.validationEvery = 4;
-  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  const dataset::SceneDataset data = tinySplit();
   diffusion::Gaussian random(17);
   for (const auto* split : {&data.training(), &data.validation()})
     for (const dataset::SceneEntry& scene : *split) {
@@ -276,9 +277,7 @@ TEST_F(TrainingTest, NvRefsSideViewOptionsAreChecked) {
 // of the variant: the resubmitted recording must give the loss that a fresh recording of the same sample
 // gives. Checked on trainers whose samples mix kinds.
 void expectRecordingsFollowTheirSamples(const networks::NetworkConfig& config, int kinds) {
-  dataset::DatasetOptions options;
-  options.validationEvery = 4;
-  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  const dataset::SceneDataset data = tinySplit();
   const auto trainer = train::makeTrainer(testContext(), config, data, tinyModels());
   struct Recorded {
     explicit Recorded(Context& context) : stream(context), tape(stream) {}
@@ -333,9 +332,7 @@ TEST_F(TrainingTest, ARecordedStepResubmittedOnAnotherSampleGivesThatSamplesLoss
 // unguided noise term averages the F frames (the first of which is the paper's one frame, the others
 // conditioned on the estimates before them), so it differs from the paper's; the guidance terms stay zero.
 TEST_F(TrainingTest, SvDiffChainsItsFramesOnUnguidedStepsWhenAsked) {
-  dataset::DatasetOptions options;
-  options.validationEvery = 4;
-  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  const dataset::SceneDataset data = tinySplit();
   auto unguidedTerms = [&](const std::string& steps) {
     networks::NetworkConfig config = tinyConfig(networks::Network::SvDiff, 3);
     config.options["multi_frame_steps"] = steps;
@@ -370,9 +367,7 @@ TEST_F(TrainingTest, SvDiffChainsItsFramesOnUnguidedStepsWhenAsked) {
 // previous side views instead of the truth. On the same sample the noise term changes (the history did), the
 // variant says so, and a bad probability or a missing model is refused.
 TEST_F(TrainingTest, SvDiffTrainsOnSvDiffInitsHistoryWhenAsked) {
-  dataset::DatasetOptions options;
-  options.validationEvery = 4;
-  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  const dataset::SceneDataset data = tinySplit();
   auto firstUnguided = [&](double initHistory) {
     networks::NetworkConfig config = tinyConfig(networks::Network::SvDiff, 3);
     if (initHistory > 0) {
@@ -481,9 +476,7 @@ TEST_F(TrainingTest, ARunFromInitialWeightsAveragesFromThem) {
   networks::NetworkConfig config = tinyConfig(networks::Network::GrhoFine, 4);
   config.train.lr = 1e-12;
   config.train.warmup = 0;
-  dataset::DatasetOptions options;
-  options.validationEvery = 4;
-  const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+  const dataset::SceneDataset data = tinySplit();
   const auto trainer = train::makeTrainer(testContext(), config, data, models);
   train::TrainingOptions o;
   o.out = scratch("from_init") / "grho-fine";
@@ -505,9 +498,7 @@ TEST_F(TrainingTest, WeightsOfAnotherArchitectureNameEveryDifference) {
   try {
     const fs::path out = scratch("other_architecture");
     const networks::NetworkConfig config = tinyConfig(networks::Network::GrhoFine, 2);
-    dataset::DatasetOptions options;
-    options.validationEvery = 4;
-    const dataset::SceneDataset data(tinyData(), preset("tiny"), options);
+    const dataset::SceneDataset data = tinySplit();
     const auto trainer = train::makeTrainer(testContext(), config, data, models);
     train::TrainingOptions o;
     o.out = out;
