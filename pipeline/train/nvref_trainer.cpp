@@ -1,5 +1,7 @@
 #include "pipeline/train/nvref_trainer.h"
 
+#include <algorithm>
+
 #include "nets/functional/activation.h"
 #include "nets/functional/broadcast.h"
 #include "nets/functional/concat.h"
@@ -27,6 +29,24 @@ std::vector<float> knownBefore(int stage) {
   for (int s = 0; s < stage; ++s)
     for (const int v : stageSlots(s)) known[static_cast<std::size_t>(v)] = 1.0f;
   return known;
+}
+
+// options.stages: the stages drawn for training, e.g. ["near", "far"] (each once, any order).
+std::vector<int> parseStages(const nlohmann::json& value, const std::string& where) {
+  const std::array<const char*, 3> names{"near", "mid", "far"};
+  if (!value.is_array() || value.empty())
+    throw Error(where + ": 'stages' must be a non-empty list of \"near\", \"mid\" and \"far\"");
+  std::vector<int> stages;
+  for (const nlohmann::json& name : value) {
+    const auto found = name.is_string() ? std::find(names.begin(), names.end(), name.get<std::string>()) : names.end();
+    if (found == names.end())
+      throw Error(where + ": 'stages' holds " + name.dump() + "; expected \"near\", \"mid\" or \"far\"");
+    const int stage = static_cast<int>(found - names.begin());
+    if (std::find(stages.begin(), stages.end(), stage) != stages.end()) throw Error(where + ": 'stages' names " + name.dump() + " twice");
+    stages.push_back(stage);
+  }
+  std::sort(stages.begin(), stages.end());
+  return stages;
 }
 
 std::vector<float> slotsOf(int stage) {
@@ -87,7 +107,7 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
   models::requireKnownKeys(config.loss, {"mse", "l1", "mean_residual", "row_sum", "psnr_gap"}, lossWhere);
   models::requireKnownKeys(config.options,
                            {"beta", "coarse_model", "mirrored_side", "synthesised_side", "side_views", "history", "psnr_reference",
-                            "earlier_views"},
+                            "earlier_views", "stages"},
                            optionsWhere);
   weights_ = {networks::number(config.loss, "mse", lossWhere), networks::number(config.loss, "l1", lossWhere),
               networks::number(config.loss, "mean_residual", lossWhere), networks::number(config.loss, "row_sum", lossWhere),
@@ -123,6 +143,7 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
       throw Error(optionsWhere + ": 'earlier_views' must be \"truth\" or \"coarse\", not \"" + earlier + "\"");
     coarseEarlierViews_ = earlier == "coarse";
   }
+  if (config.options.contains("stages")) stages_ = parseStages(config.options["stages"], optionsWhere);
   if (networks::text(config.options, "coarse_model", optionsWhere) != "grho-coarse")
     throw Error(optionsWhere + ": 'coarse_model' must be \"grho-coarse\"");
   coarse_ = networks::loadFrozenDensityGenerator(context, models, networks::Network::GrhoCoarse, data.preset());
@@ -171,7 +192,7 @@ int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int fra
 int NvRefTrainer::prepare(int64_t, diffusion::Gaussian& random) {
   FrameDraw draw = drawFrames(data_.training(), 1, 2, random);
   Augmentation a = drawAugmentation(config_.data, random);
-  const int stage = std::min(2, static_cast<int>(random.uniform() * 3));
+  const int stage = stages_[std::min(stages_.size() - 1, static_cast<std::size_t>(random.uniform() * static_cast<double>(stages_.size())))];
   std::vector<int> slots = stageSlots(stage);
   while (slots.size() > kBatch) slots.erase(slots.begin() + static_cast<std::ptrdiff_t>(random.uniform() * static_cast<double>(slots.size())));
   std::vector<float> usePrevious;
@@ -318,7 +339,13 @@ std::vector<Metric> NvRefTrainer::validate() {
 }
 
 std::string NvRefTrainer::dataSummary() const {
-  return describeData(data_) + "; coarse densities from the trained grho-coarse" +
+  std::string stages;
+  if (stages_.size() < 3) {
+    const std::array<const char*, 3> names{"near", "mid", "far"};
+    for (const int s : stages_) stages += std::string(stages.empty() ? "" : " and ") + names[static_cast<std::size_t>(s)];
+    stages = "; the " + stages + " stage" + (stages_.size() > 1 ? "s" : "") + " only";
+  }
+  return describeData(data_) + "; coarse densities from the trained grho-coarse" + stages +
          (coarseEarlierViews_ ? ", the mid and far stages' from the renders of the stage before" : "") +
          (sideViews_ ? "; " + sideViews_->describe() : "");
 }

@@ -31,6 +31,8 @@
 // stages' slots of the density of the stage before (the refinement of those renders left out):
 //   rho_near = G(front, side),  rho_mid = G(front, side, R(rho_near, near)),
 //   rho_far = G(front, side, R(rho_near, near), R(rho_mid, mid)).
+// options.stages (default ["near", "mid", "far"]) restricts the stages training draws; validation measures
+// all three.
 #pragma once
 
 #include <array>
@@ -112,6 +114,7 @@ class NvRefTrainer : public StageTrainer {
   History history_ = History::Truth;  // options.history
   bool psnrAgainstBlack_ = false;      // options.psnr_reference == "black"
   bool coarseEarlierViews_ = false;    // options.earlier_views == "coarse"
+  std::vector<int> stages_{0, 1, 2};   // options.stages: the stages training draws (0 near, 1 mid, 2 far)
   networks::Refiner refiner_;
   std::unique_ptr<networks::DensityGenerator> coarse_;
   LookSlot look_;

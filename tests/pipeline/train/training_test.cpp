@@ -8,6 +8,9 @@
 #include <iterator>
 #include <map>
 #include <memory>
+#include <set>
+#include <utility>
+#include <vector>
 
 #include "nets/io/safetensors.h"
 #include "pipeline/dataset/scene_dataset.h"
@@ -209,6 +212,31 @@ TEST_F(TrainingTest, NvRefsCoarseEarlierViewsChangeOnlyTheLaterStages) {
     EXPECT_EQ(truth.at(name + "near_mirrored"), coarse.at(name + "near_mirrored")) << kind;
     for (const char* stage : {"mid", "far"}) EXPECT_NE(truth.at(name + stage), coarse.at(name + stage)) << kind << " " << stage;
   }
+}
+
+// options.stages restricts the stages training draws (with earlier_views "coarse" the stage is part of the
+// drawn variant: variant / 6); validation still measures all three; bad lists are refused.
+TEST_F(TrainingTest, NvRefTrainsOnTheStagesItIsGiven) {
+  const dataset::SceneDataset data = tinySplit();
+  for (const auto& [stages, expected] : std::vector<std::pair<std::vector<std::string>, std::set<int>>>{
+           {{"far"}, {2}}, {{"mid", "near"}, {0, 1}}, {{"near", "mid", "far"}, {0, 1, 2}}}) {
+    networks::NetworkConfig config = tinyConfig(networks::Network::NvRef, 3);
+    config.options["earlier_views"] = "coarse";
+    config.options["stages"] = stages;
+    const auto trainer = train::makeTrainer(testContext(), config, data, tinyModels());
+    diffusion::Gaussian random(5);
+    std::set<int> drawn;
+    for (int step = 0; step < 24; ++step) drawn.insert(trainer->prepare(step, random) / 6);
+    EXPECT_EQ(drawn, expected) << nlohmann::json(stages).dump();
+    EXPECT_EQ(trainer->dataSummary().find("stage only") != std::string::npos, stages.size() == 1) << trainer->dataSummary();
+  }
+  networks::NetworkConfig config = tinyConfig(networks::Network::NvRef, 3);
+  config.options["stages"] = {"near", "middle"};
+  expectRefused(config, "nvref_bad_stage", "'stages' holds \"middle\"; expected \"near\", \"mid\" or \"far\"", "an unknown stage");
+  config.options["stages"] = {"far", "far"};
+  expectRefused(config, "nvref_twice_stage", "'stages' names \"far\" twice", "a stage named twice");
+  config.options["stages"] = nlohmann::json::array();
+  expectRefused(config, "nvref_no_stage", "'stages' must be a non-empty list", "no stage");
 }
 
 // A folder of side views of every tiny scene's frames 0 .. frames-1, as `smokesvd rollout --keep-side-views` keeps
