@@ -11,6 +11,7 @@
 //   a_k     = 1 - exp(-absorption * sigma_k * step)
 //   T_0 = 1, T_{k+1} = T_k (1 - a_k)
 //   image[v, 0, r, c] = sum_k T_k a_k S_k
+// Rays at the height of a row of voxel centres (orbit cameras) read four corners per sample (sampling.glsl).
 #include "index.glsl"
 #include "sampling.glsl"
 #include "camera.glsl"
@@ -29,6 +30,15 @@ layout(push_constant) uniform Push {
   float step_length;
 };
 
+// One sample of the march: accumulate its emission and attenuate the transmittance.
+void accumulate(float sigma, vec3 p, float absorption, float ambient, float intensity, inout float radiance,
+                inout float transmittance) {
+  const float source = LIGHT != 0 ? ambient + intensity * sample_clamped(light_transmittance, ivec3(width, height, depth), p) : ambient;
+  const float alpha = 1.0 - exp(-absorption * sigma * step_length);
+  radiance += transmittance * alpha * source;
+  transmittance *= 1.0 - alpha;
+}
+
 void main() {
   const uint item = flat_index();
   if (item >= uint(views * image_height * image_width)) return;
@@ -43,13 +53,16 @@ void main() {
   const vec2 span = ray_box(origin, direction, vec3(-0.5), vec3(size) + 0.5);
   float radiance = 0.0;
   float transmittance = 1.0;
-  for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
-    const vec3 p = origin + t * direction;
-    const float sigma = sample_zero(density, size, p);
-    const float source = LIGHT != 0 ? ambient + intensity * sample_clamped(light_transmittance, size, p) : ambient;
-    const float alpha = 1.0 - exp(-absorption * sigma * step_length);
-    radiance += transmittance * alpha * source;
-    transmittance *= 1.0 - alpha;
+  if (ray_in_voxel_row(origin, direction)) {
+    for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
+      const vec3 p = origin + t * direction;
+      accumulate(sample_zero_in_row(density, size, p), p, absorption, ambient, intensity, radiance, transmittance);
+    }
+  } else {
+    for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
+      const vec3 p = origin + t * direction;
+      accumulate(sample_zero(density, size, p), p, absorption, ambient, intensity, radiance, transmittance);
+    }
   }
   image[item] = radiance;
 }

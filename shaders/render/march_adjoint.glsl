@@ -3,7 +3,8 @@
 //   R_k = I - sum_{j <= k} T_j a_j S_j                  radiance that reaches the camera from behind sample k
 //   dI/dsigma_k = absorption * step * (T_{k+1} S_k - R_k)
 //   dI/dS_k     = T_k a_k
-// and the sample gradients are scattered with the trilinear weights of p_k (float atomics):
+// and the sample gradients are scattered with the trilinear weights of p_k (float atomics; a ray in a row of voxel
+// centres reads and scatters four corners per sample, sampling.glsl):
 //   grad_density[corner]       += g * dI/dsigma_k * w_corner        (zero padding)
 //   grad_transmittance[corner] += g * intensity * dI/dS_k * w_corner (clamped lookup; LIGHT only)
 // A gather would need every sample's gradient stored ([views, samples, H, W]), hence the scatter. The
@@ -46,6 +47,19 @@ void scatter_density(ivec3 size, vec3 p, float value) {
   }
 }
 
+// scatter_density for a ray in a row of voxel centres (sampling.glsl): the upper corners' weights are 0.
+void scatter_density_in_row(ivec3 size, vec3 p, float value) {
+  ivec3 base;
+  vec3 f;
+  trilinear_corners(p, base, f);
+  for (int corner = 0; corner < 4; ++corner) {
+    const ivec3 offset = ivec3(corner & 1, 0, corner >> 1);
+    const ivec3 v = base + offset;
+    if (voxel_inside(v, size))
+      float_atomic_add(grad_density, shard_base() + voxel_index(v, size), corner_weight(offset, f) * value);
+  }
+}
+
 void scatter_transmittance(ivec3 size, vec3 p, float value) {
   ivec3 base;
   vec3 f;
@@ -58,6 +72,28 @@ void scatter_transmittance(ivec3 size, vec3 p, float value) {
   }
 }
 
+// The march state of one ray and what its gradients are scaled by.
+struct AdjointRay {
+  float g, total, absorption, ambient, intensity;
+  float accumulated, transmittance;
+};
+
+// One sample of the recomputed march: advances the state and gives the sample's density gradient and (LIGHT)
+// transmittance gradient, to be scattered with the sample's own lookup weights.
+void adjoint_sample(inout AdjointRay ray, vec3 p, float sigma, out float density_grad, out float transmittance_grad) {
+  const ivec3 size = ivec3(width, height, depth);
+  const float shadow = LIGHT != 0 ? sample_clamped(light_transmittance, size, p) : 0.0;
+  const float source = ray.ambient + ray.intensity * shadow;
+  const float alpha = 1.0 - exp(-ray.absorption * sigma * step_length);
+  const float emitted = ray.transmittance * alpha;
+  ray.accumulated += emitted * source;
+  const float next = ray.transmittance * (1.0 - alpha);
+  const float behind = ray.total - ray.accumulated;
+  density_grad = ray.g * ray.absorption * step_length * (next * source - behind);
+  transmittance_grad = ray.g * ray.intensity * emitted;
+  ray.transmittance = next;
+}
+
 void adjoint_ray(uint item) {
   const float g = texelFetch(grad_image, int(item)).x;
   if (g == 0.0) return;
@@ -65,27 +101,27 @@ void adjoint_ray(uint item) {
   const int row = (int(item) / image_width) % image_height;
   const int view = int(item) / (image_width * image_height);
   const ivec3 size = ivec3(width, height, depth);
-  const float absorption = look_absorption(look), ambient = look_ambient(look), intensity = look_intensity(look);
+  AdjointRay ray = AdjointRay(g, texelFetch(image, int(item)).x, look_absorption(look), look_ambient(look),
+                              look_intensity(look), 0.0, 1.0);
 
   vec3 origin, direction;
   camera_ray(cameras, view, vec2(column, row) + 0.5, origin, direction);
   const vec2 span = ray_box(origin, direction, vec3(-0.5), vec3(size) + 0.5);
-  const float total = texelFetch(image, int(item)).x;
-  float accumulated = 0.0;
-  float transmittance = 1.0;
-  for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
-    const vec3 p = origin + t * direction;
-    const float sigma = sample_zero(density, size, p);
-    const float shadow = LIGHT != 0 ? sample_clamped(light_transmittance, size, p) : 0.0;
-    const float source = ambient + intensity * shadow;
-    const float alpha = 1.0 - exp(-absorption * sigma * step_length);
-    const float emitted = transmittance * alpha;
-    accumulated += emitted * source;
-    const float next = transmittance * (1.0 - alpha);
-    const float behind = total - accumulated;
-    scatter_density(size, p, g * absorption * step_length * (next * source - behind));
-    if (LIGHT != 0) scatter_transmittance(size, p, g * intensity * emitted);
-    transmittance = next;
+  float density_grad, transmittance_grad;
+  if (ray_in_voxel_row(origin, direction)) {
+    for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
+      const vec3 p = origin + t * direction;
+      adjoint_sample(ray, p, sample_zero_in_row(density, size, p), density_grad, transmittance_grad);
+      scatter_density_in_row(size, p, density_grad);
+      if (LIGHT != 0) scatter_transmittance(size, p, transmittance_grad);
+    }
+  } else {
+    for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
+      const vec3 p = origin + t * direction;
+      adjoint_sample(ray, p, sample_zero(density, size, p), density_grad, transmittance_grad);
+      scatter_density(size, p, density_grad);
+      if (LIGHT != 0) scatter_transmittance(size, p, transmittance_grad);
+    }
   }
 }
 

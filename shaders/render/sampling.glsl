@@ -54,6 +54,32 @@ float sample_zero_at(samplerBuffer volume, int offset, ivec3 size, vec3 p) {
 
 float sample_zero(samplerBuffer volume, ivec3 size, vec3 p) { return sample_zero_at(volume, 0, size, p); }
 
+// A ray that runs at the height of a row of voxel centres (direction.y = 0, origin.y - 1/2 an integer: every
+// orbit camera whose image rows are the volume's, docs/rendering.md) has f.y = 0 at every sample, so the
+// upper corners' weights are 0 and the lookup reads only the four corners of its own row: the same value
+// (interpolate() with f.y = 0), half the fetches. Samplers that branch on it per ray keep a separate loop
+// for such rays: lavapipe runs both sides of a branch under a lane mask, but leaves a loop once no lane is in it.
+bool ray_in_voxel_row(vec3 origin, vec3 direction) { return direction.y == 0.0 && fract(origin.y - 0.5) == 0.0; }
+
+float sample_zero_in_row(samplerBuffer volume, ivec3 size, vec3 p) {
+  ivec3 base;
+  vec3 f;
+  trilinear_corners(p, base, f);
+  if (base.x >= 0 && base.z >= 0 && base.x < size.x - 1 && base.z < size.z - 1 && base.y >= 0 && base.y < size.y - 1) {
+    // (the top row takes the corner sum below, as sample_zero_at's stencil check sends it there: the same roundings)
+    const int i = voxel_index(base, size), sz = size.x * size.y;
+    return mix(mix(texelFetch(volume, i).x, texelFetch(volume, i + 1).x, f.x),
+               mix(texelFetch(volume, i + sz).x, texelFetch(volume, i + sz + 1).x, f.x), f.z);
+  }
+  float value = 0.0;
+  for (int corner = 0; corner < 4; ++corner) {
+    const ivec3 corner_offset = ivec3(corner & 1, 0, corner >> 1);
+    const ivec3 v = base + corner_offset;
+    if (voxel_inside(v, size)) value += corner_weight(corner_offset, f) * texelFetch(volume, voxel_index(v, size)).x;
+  }
+  return value;
+}
+
 vec3 clamp_to_centres(vec3 p, ivec3 size) { return clamp(p, vec3(0.5), vec3(size) - 0.5); }
 
 // Corner voxel of a clamped lookup: the base is kept inside the grid (the weight of a corner past the edge is 0
