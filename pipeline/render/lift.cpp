@@ -39,8 +39,9 @@ void checkShapes(const char* op, const Tensor& images, const Tensor& lifted, con
 
 void lift(Stream& stream, const Tensor& images, const ViewSet& views, const GridSize& grid, const Tensor& lifted) {
   checkShapes("lift", images, lifted, views, grid);
+  // One invocation per column (view, z, x) of the lifted volume.
   stream.dispatchFlat(stream.kernel("render/lift", kWorkgroup), {images, asVec4(views.table), lifted},
-                      liftPush(grid, views), static_cast<uint64_t>(lifted.numel()));
+                      liftPush(grid, views), static_cast<uint64_t>(views.views) * grid.z * grid.x);
 }
 
 void liftBackward(Stream& stream, const Tensor& gradLifted, const ViewSet& views, const GridSize& grid,

@@ -16,13 +16,30 @@ void camera_ray(samplerBuffer table, int view, vec2 pixel, out vec3 origin, out 
                         pixel.y * texelFetch(table, base + 5).xyz);
 }
 
-// Pixel coordinates of grid point p; false if p is not in front of the camera.
-bool camera_project(samplerBuffer table, int view, vec3 p, out vec2 pixel) {
+// The 3x4 projection of a view (texels 6..8), for callers that project many points of one view.
+mat3x4 camera_projection(samplerBuffer table, int view) {
   const int base = view * CAMERA_TEXELS + 6;
+  return mat3x4(texelFetch(table, base), texelFetch(table, base + 1), texelFetch(table, base + 2));
+}
+
+// Pixel coordinates of grid point p under the projection rows; false if p is not in front of the camera.
+bool project(mat3x4 rows, vec3 p, out vec2 pixel) {
   const vec4 h = vec4(p, 1.0);
-  const float c = dot(texelFetch(table, base + 2), h);
-  pixel = vec2(dot(texelFetch(table, base), h), dot(texelFetch(table, base + 1), h)) / c;
+  const float c = dot(rows[2], h);
+  pixel = vec2(dot(rows[0], h), dot(rows[1], h)) / c;
   return c > 0.0;
+}
+
+bool camera_project(samplerBuffer table, int view, vec3 p, out vec2 pixel) {
+  return project(camera_projection(table, view), p, pixel);
+}
+
+// An orthographic projection whose image rows are the grid's rows of voxel centres (an orbit camera with the
+// volume's height in pixels): v = s - y for an integer s, and u, c independent of y, so every voxel centre
+// projects onto a row of pixel centres and bilinear reads of the image never need the row below.
+bool projection_in_pixel_rows(mat3x4 rows) {
+  return rows[2] == vec4(0.0, 0.0, 0.0, 1.0) && rows[0].y == 0.0 && rows[1].x == 0.0 && rows[1].z == 0.0 &&
+         rows[1].y == -1.0 && fract(rows[1].w) == 0.0;
 }
 
 // Parameter interval [t0, t1] (t0 >= 0) where the ray lies in the box [lo, hi]; empty when t0 >= t1.
