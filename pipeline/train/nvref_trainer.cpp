@@ -192,7 +192,8 @@ int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int fra
 int NvRefTrainer::prepare(int64_t, diffusion::Gaussian& random) {
   FrameDraw draw = drawFrames(data_.training(), 1, 2, random);
   Augmentation a = drawAugmentation(config_.data, random);
-  const int stage = stages_[std::min(stages_.size() - 1, static_cast<std::size_t>(random.uniform() * static_cast<double>(stages_.size())))];
+  const std::size_t drawn = static_cast<std::size_t>(random.uniform() * static_cast<double>(stages_.size()));
+  const int stage = stages_[std::min(stages_.size() - 1, drawn)];
   std::vector<int> slots = stageSlots(stage);
   while (slots.size() > kBatch) slots.erase(slots.begin() + static_cast<std::ptrdiff_t>(random.uniform() * static_cast<double>(slots.size())));
   std::vector<float> usePrevious;

@@ -33,7 +33,8 @@ layout(push_constant) uniform Push {
 // One sample of the march: accumulate its emission and attenuate the transmittance.
 void accumulate(float sigma, vec3 p, float absorption, float ambient, float intensity, inout float radiance,
                 inout float transmittance) {
-  const float source = LIGHT != 0 ? ambient + intensity * sample_clamped(light_transmittance, ivec3(width, height, depth), p) : ambient;
+  const ivec3 size = ivec3(width, height, depth);
+  const float source = LIGHT != 0 ? ambient + intensity * sample_clamped(light_transmittance, size, p) : ambient;
   const float alpha = 1.0 - exp(-absorption * sigma * step_length);
   radiance += transmittance * alpha * source;
   transmittance *= 1.0 - alpha;
