@@ -108,8 +108,10 @@ Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, 
     float slope;
   } push{i32(s[2]),          i32(s[3]),          i32(s[4]),           i32(xp.size[0]), i32(xp.size[1]),
          i32(xp.size[2] / 4), i32(low[0]), i32(low[1]), i32(low[2]), inputSlope};
-  const Kernel& kernel = stream.kernel("nn/conv_pad", kRowWorkgroup, {inputSlope != 1.0f ? 1 : 0});
-  stream.dispatch(kernel, {x5, xp.tensor}, push,
+  // Rows of a multiple of 4 values are read as vec4 texels.
+  const bool vec4Source = s[4] % 4 == 0;
+  const Kernel& kernel = stream.kernel("nn/conv_pad", kRowWorkgroup, {inputSlope != 1.0f ? 1 : 0, vec4Source ? 1 : 0});
+  stream.dispatch(kernel, {vec4Source ? asVec4(x5) : Arg(x5), xp.tensor}, push,
                   {groupsFor(xp.size[1], kRowWorkgroup[0]), static_cast<uint32_t>(s[0] * s[1] * xp.size[0]), 1});
   return xp;
 }

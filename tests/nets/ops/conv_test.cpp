@@ -183,6 +183,20 @@ TEST_F(ConvTest, ForwardLargerShapesWithTails) {
   checkForward(Case{{1, 8, 9, 10, 19}, {13, 8, 3, 3, 3}, {1, 1}, true}, false);
 }
 
+// Rows of a multiple of 4 values are padded from vec4 reads shifted by (-padding) mod 4 (conv_pad's VEC4_SOURCE):
+// paddings 0-4 cover every shift and one of a whole vec4; the backward passes pad dy the same way.
+TEST_F(ConvTest, RowsOfVec4sArePaddedAtEveryShift) {
+  for (const Case& c : {Case{{2, 3, 5, 8}, {4, 3, 3, 3}, {1, 0}, true}, Case{{1, 3, 5, 8}, {4, 3, 3, 3}, {1, 1}, true},
+                        Case{{1, 2, 4, 12}, {3, 2, 5, 5}, {1, 2}}, Case{{1, 2, 4, 12}, {3, 2, 7, 7}, {1, 3}, true},
+                        Case{{1, 2, 3, 8}, {3, 2, 9, 9}, {1, 4}}, Case{{2, 3, 6, 8}, {5, 3, 3, 3}, {2, 1}},
+                        Case{{1, 2, 3, 5, 8}, {3, 2, 3, 3, 3}, {1, 1}, true}, Case{{1, 2, 4, 3, 12}, {3, 2, 3, 3, 3}, {2, 2}}})
+    checkForward(c, false);
+  for (const Case& c : {Case{{1, 2, 8, 8}, {3, 2, 3, 3}, {1, 1}}, Case{{1, 2, 4, 4, 8}, {2, 2, 3, 3, 3}, {2, 1}}})
+    checkGradients(c, false);
+  checkLargeBackward(Case{{1, 6, 9, 16}, {5, 6, 5, 5}, {1, 2}});
+  checkForward(Case{{1, 4, 5, 8}, {4, 3, 4, 4}, {2, 1}, true}, true);
+}
+
 TEST_F(ConvTest, Backward2dMatchesFiniteDifferences) {
   for (const Case& c : {Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {1, 1}}, Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {2, 1}},
                         Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {2, 0}}, Case{{2, 3, 7, 9}, {5, 3, 1, 1}, {1, 0}},
@@ -254,7 +268,8 @@ TEST_F(ConvTest, PointwiseBackwardLargerShapesWithTails) {
 TEST_F(ConvTest, InputThroughLeakyReluAndAddendMatchTheReferenceOnTheActivatedInput) {
   constexpr double kSlope = 0.2;
   for (const Case& c : {Case{{2, 5, 3, 4, 5}, {7, 5, 1, 1, 1}, {1, 0}, true}, Case{{1, 3, 5, 6, 7}, {4, 3, 3, 3, 3}, {1, 1}, true},
-                        Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {2, 1}, true}, Case{{2, 9, 6, 6}, {3, 9, 1, 1}, {1, 0}, true}}) {
+                        Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {2, 1}, true}, Case{{2, 9, 6, 6}, {3, 9, 1, 1}, {1, 0}, true},
+                        Case{{1, 3, 5, 8}, {4, 3, 3, 3}, {1, 1}, true}}) {
     const Operand x = operand(context(), c.x, 13), w = operand(context(), c.w, 14), b = operand(context(), {c.w[0]}, 15);
     const Shape yShape = referenceConvOutputShape(c.x, c.w, c.spec);
     const Operand dy = operand(context(), yShape, 16), addend = operand(context(), yShape, 17);
