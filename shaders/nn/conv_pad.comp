@@ -27,7 +27,8 @@ vec4 activated(vec4 v) { return ACTIVATE ? mix(slope * v, v, greaterThan(v, vec4
 
 // Source vec4 a of the row starting at vec4 `row_start`, 0 outside the row or where the row is padding.
 vec4 source_vec4(bool inside, int row_start, int a) {
-  return inside && a >= 0 && a < width / 4 ? texelFetch(src, row_start + a) : vec4(0.0);
+  if (inside && a >= 0 && a < width / 4) return texelFetch(src, row_start + a);
+  return vec4(0.0);
 }
 
 // Four consecutive values starting at component r of a, continuing into b.
