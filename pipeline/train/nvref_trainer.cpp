@@ -18,6 +18,8 @@ namespace smokesvd::train {
 namespace {
 
 constexpr int kBatch = 4;
+// The refinement stages' names in options.stages, the validation metrics and the model card.
+constexpr std::array<const char*, 3> kStageNames{"near", "mid", "far"};
 
 const std::vector<int>& stageSlots(int stage) {
   return stage == 0 ? networks::nearSlots() : stage == 1 ? networks::midSlots() : networks::farSlots();
@@ -33,15 +35,15 @@ std::vector<float> knownBefore(int stage) {
 
 // options.stages: the stages drawn for training, e.g. ["near", "far"] (each once, any order).
 std::vector<int> parseStages(const nlohmann::json& value, const std::string& where) {
-  const std::array<const char*, 3> names{"near", "mid", "far"};
   if (!value.is_array() || value.empty())
     throw Error(where + ": 'stages' must be a non-empty list of \"near\", \"mid\" and \"far\"");
   std::vector<int> stages;
   for (const nlohmann::json& name : value) {
-    const auto found = name.is_string() ? std::find(names.begin(), names.end(), name.get<std::string>()) : names.end();
-    if (found == names.end())
+    const auto found = name.is_string() ? std::find(kStageNames.begin(), kStageNames.end(), name.get<std::string>())
+                                          : kStageNames.end();
+    if (found == kStageNames.end())
       throw Error(where + ": 'stages' holds " + name.dump() + "; expected \"near\", \"mid\" or \"far\"");
-    const int stage = static_cast<int>(found - names.begin());
+    const int stage = static_cast<int>(found - kStageNames.begin());
     if (std::find(stages.begin(), stages.end(), stage) != stages.end()) throw Error(where + ": 'stages' names " + name.dump() + " twice");
     stages.push_back(stage);
   }
@@ -294,7 +296,6 @@ LossTerms NvRefTrainer::record(Tape& tape, int variant) {
 
 std::vector<Metric> NvRefTrainer::validate() {
   const int samples = config_.train.validationSamples;
-  const char* names[] = {"near", "mid", "far"};
   std::vector<std::unique_ptr<Batch>> batches;
   for (int stage = 0; stage < 3; ++stage)
     batches.push_back(std::make_unique<Batch>(context_, data_.preset(), static_cast<int>(stageSlots(stage).size())));
@@ -332,8 +333,8 @@ std::vector<Metric> NvRefTrainer::validate() {
     for (int stage = 0; stage < 3; ++stage) gain += (refined[static_cast<std::size_t>(stage)] - unrefined[static_cast<std::size_t>(stage)]) / samples / 3;
     metrics.push_back({"psnr_gain" + suffix, gain});
     for (int stage = 0; stage < 3; ++stage) {
-      metrics.push_back({std::string("psnr_refined_") + names[stage] + suffix, refined[static_cast<std::size_t>(stage)] / samples});
-      metrics.push_back({std::string("psnr_unrefined_") + names[stage] + suffix, unrefined[static_cast<std::size_t>(stage)] / samples});
+      metrics.push_back({std::string("psnr_refined_") + kStageNames[static_cast<std::size_t>(stage)] + suffix, refined[static_cast<std::size_t>(stage)] / samples});
+      metrics.push_back({std::string("psnr_unrefined_") + kStageNames[static_cast<std::size_t>(stage)] + suffix, unrefined[static_cast<std::size_t>(stage)] / samples});
     }
   }
   return metrics;
@@ -342,8 +343,7 @@ std::vector<Metric> NvRefTrainer::validate() {
 std::string NvRefTrainer::dataSummary() const {
   std::string stages;
   if (stages_.size() < 3) {
-    const std::array<const char*, 3> names{"near", "mid", "far"};
-    for (const int s : stages_) stages += std::string(stages.empty() ? "" : " and ") + names[static_cast<std::size_t>(s)];
+    for (const int s : stages_) stages += std::string(stages.empty() ? "" : " and ") + kStageNames[static_cast<std::size_t>(s)];
     stages = "; the " + stages + " stage" + (stages_.size() > 1 ? "s" : "") + " only";
   }
   return describeData(data_) + "; coarse densities from the trained grho-coarse" + stages +

@@ -35,25 +35,13 @@ layout(push_constant) uniform Push {
 
 int shard_base() { return int(gl_WorkGroupID.x) * shard_size; }
 
-void scatter_density(ivec3 size, vec3 p, float value) {
+// in_row: a ray in a row of voxel centres (sampling.glsl), whose upper corners' weights are 0.
+void scatter_density(ivec3 size, vec3 p, float value, const bool in_row) {
   ivec3 base;
   vec3 f;
   trilinear_corners(p, base, f);
-  for (int corner = 0; corner < 8; ++corner) {
-    const ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
-    const ivec3 v = base + offset;
-    if (voxel_inside(v, size))
-      float_atomic_add(grad_density, shard_base() + voxel_index(v, size), corner_weight(offset, f) * value);
-  }
-}
-
-// scatter_density for a ray in a row of voxel centres (sampling.glsl): the upper corners' weights are 0.
-void scatter_density_in_row(ivec3 size, vec3 p, float value) {
-  ivec3 base;
-  vec3 f;
-  trilinear_corners(p, base, f);
-  for (int corner = 0; corner < 4; ++corner) {
-    const ivec3 offset = ivec3(corner & 1, 0, corner >> 1);
+  for (int corner = 0; corner < stencil_corners(in_row); ++corner) {
+    const ivec3 offset = stencil_corner(corner, in_row);
     const ivec3 v = base + offset;
     if (voxel_inside(v, size))
       float_atomic_add(grad_density, shard_base() + voxel_index(v, size), corner_weight(offset, f) * value);
@@ -112,14 +100,14 @@ void adjoint_ray(uint item) {
     for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
       const vec3 p = origin + t * direction;
       adjoint_sample(ray, p, sample_zero_in_row(density, size, p), density_grad, transmittance_grad);
-      scatter_density_in_row(size, p, density_grad);
+      scatter_density(size, p, density_grad, true);
       if (LIGHT != 0) scatter_transmittance(size, p, transmittance_grad);
     }
   } else {
     for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
       const vec3 p = origin + t * direction;
       adjoint_sample(ray, p, sample_zero(density, size, p), density_grad, transmittance_grad);
-      scatter_density(size, p, density_grad);
+      scatter_density(size, p, density_grad, false);
       if (LIGHT != 0) scatter_transmittance(size, p, transmittance_grad);
     }
   }

@@ -30,6 +30,23 @@ float interpolate(vec3 f, float c000, float c100, float c010, float c110, float 
   return mix(y0, y1, f.z);
 }
 
+// Corner i of a trilinear stencil in corner order: of all 8, or (in_row) of the 4 in the stencil's lower row,
+// the only ones with weight when f.y = 0 (ray_in_voxel_row below).
+int stencil_corners(const bool in_row) { return in_row ? 4 : 8; }
+ivec3 stencil_corner(int i, const bool in_row) { return in_row ? ivec3(i & 1, 0, i >> 1) : ivec3(i & 1, (i >> 1) & 1, i >> 2); }
+
+// The zero-padded lookup as a sum over the stencil's corners inside the grid (where the stencil leaves it).
+float corner_sum_zero(samplerBuffer volume, int offset, ivec3 size, ivec3 base, vec3 f, const bool in_row) {
+  float value = 0.0;
+  for (int corner = 0; corner < stencil_corners(in_row); ++corner) {
+    const ivec3 corner_offset = stencil_corner(corner, in_row);
+    const ivec3 v = base + corner_offset;
+    if (voxel_inside(v, size))
+      value += corner_weight(corner_offset, f) * texelFetch(volume, offset + voxel_index(v, size)).x;
+  }
+  return value;
+}
+
 // `offset`: index of the volume's first voxel in the buffer (e.g. channel * voxels).
 float sample_zero_at(samplerBuffer volume, int offset, ivec3 size, vec3 p) {
   ivec3 base;
@@ -42,14 +59,7 @@ float sample_zero_at(samplerBuffer volume, int offset, ivec3 size, vec3 p) {
                        texelFetch(volume, i + sy + 1).x, texelFetch(volume, i + sz).x, texelFetch(volume, i + sz + 1).x,
                        texelFetch(volume, i + sz + sy).x, texelFetch(volume, i + sz + sy + 1).x);
   }
-  float value = 0.0;
-  for (int corner = 0; corner < 8; ++corner) {
-    const ivec3 corner_offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
-    const ivec3 v = base + corner_offset;
-    if (voxel_inside(v, size))
-      value += corner_weight(corner_offset, f) * texelFetch(volume, offset + voxel_index(v, size)).x;
-  }
-  return value;
+  return corner_sum_zero(volume, offset, size, base, f, false);
 }
 
 float sample_zero(samplerBuffer volume, ivec3 size, vec3 p) { return sample_zero_at(volume, 0, size, p); }
@@ -71,13 +81,7 @@ float sample_zero_in_row(samplerBuffer volume, ivec3 size, vec3 p) {
     return mix(mix(texelFetch(volume, i).x, texelFetch(volume, i + 1).x, f.x),
                mix(texelFetch(volume, i + sz).x, texelFetch(volume, i + sz + 1).x, f.x), f.z);
   }
-  float value = 0.0;
-  for (int corner = 0; corner < 4; ++corner) {
-    const ivec3 corner_offset = ivec3(corner & 1, 0, corner >> 1);
-    const ivec3 v = base + corner_offset;
-    if (voxel_inside(v, size)) value += corner_weight(corner_offset, f) * texelFetch(volume, voxel_index(v, size)).x;
-  }
-  return value;
+  return corner_sum_zero(volume, 0, size, base, f, true);
 }
 
 vec3 clamp_to_centres(vec3 p, ivec3 size) { return clamp(p, vec3(0.5), vec3(size) - 0.5); }
