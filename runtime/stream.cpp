@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "runtime/context.h"
 #include "runtime/error.h"
@@ -17,6 +20,25 @@ std::array<uint32_t, 3> flatGroups(uint64_t invocations, uint32_t workgroupX) {
   const uint64_t width = std::min<uint64_t>(groups, 65535);
   const uint64_t height = width == 0 ? 0 : (groups + width - 1) / width;
   return {static_cast<uint32_t>(width), static_cast<uint32_t>(std::max<uint64_t>(height, width ? 1 : 0)), 1};
+}
+
+// RegionTime::detail of a profiled dispatch: "groups 3x112x1; constants 3,3,3,1; push 16,70992".
+std::string dispatchDetail(const KernelKey& key, const std::array<uint32_t, 3>& groups, const void* push,
+                           uint32_t pushBytes) {
+  std::string detail = "groups " + std::to_string(groups[0]) + "x" + std::to_string(groups[1]) + "x" + std::to_string(groups[2]);
+  auto list = [&detail](const char* label, const auto& values) {
+    if (values.empty()) return;
+    detail.append("; ").append(label).append(" ");
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (i > 0) detail.push_back(',');
+      detail.append(std::to_string(values[i]));
+    }
+  };
+  list("constants", key.constants);
+  std::vector<int32_t> words(pushBytes / sizeof(int32_t));
+  if (!words.empty()) std::memcpy(words.data(), push, words.size() * sizeof(int32_t));
+  list("push", words);
+  return detail;
 }
 
 // The floats of an argument the finite check scans: the tensor's elements (not the padding or guard its
@@ -174,7 +196,7 @@ void Stream::dispatch(const Kernel& kernel, std::span<const Arg> args, const voi
     if (bindings[i].writes) writtenSinceBarrier_.insert(arg.buffer->handle());
   }
 
-  if (options_.profileDispatches) beginRegion(name);
+  if (options_.profileDispatches) beginRegion(name, dispatchDetail(kernel.key(), groups, push, pushBytes));
   vkCmdBindPipeline(commands_, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.pipeline());
   if (!writes.empty())
     context_.cmdPushDescriptorSet()(commands_, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.layout(), 0,
@@ -357,12 +379,12 @@ void Stream::keepDerived(const Tensor& source, const std::string& key, const Ten
       Derived{source.sharedBuffer(), writes == writesRecorded_.end() ? 0 : writes->second, derived};
 }
 
-void Stream::beginRegion(std::string name) {
+void Stream::beginRegion(std::string name, std::string detail) {
   if (!queries_) return;
   begin();
   if (queriesUsed_ + 2 > 2 * options_.maxRegions)
     throw Error("command stream: more than " + std::to_string(options_.maxRegions) + " timed regions");
-  regions_.push_back({std::move(name), queriesUsed_, 0});
+  regions_.push_back({std::move(name), std::move(detail), queriesUsed_, 0});
   openRegions_.push_back(regions_.size() - 1);
   vkCmdWriteTimestamp(commands_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, queriesUsed_++);
 }
@@ -399,7 +421,7 @@ void Stream::submit() {
             "reading timestamps");
     for (const Region& region : regions_) {
       const double ticks = static_cast<double>(stamps[region.endQuery] - stamps[region.beginQuery]);
-      times_.push_back({region.name, ticks * context_.info().timestampPeriodNs});
+      times_.push_back({region.name, ticks * context_.info().timestampPeriodNs, region.detail});
     }
   }
   if (check_) check_->throwIfFound();

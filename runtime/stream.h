@@ -57,7 +57,9 @@ inline Arg asVec4(const Tensor& tensor) {
 }
 
 struct StreamOptions {
-  bool profileDispatches = false;  // time every dispatch as a region named after its shader
+  // Time every dispatch as a region named after its shader, its detail the dispatch's workgroup grid,
+  // specialisation constants and push constants (RegionTime::detail).
+  bool profileDispatches = false;
   uint32_t maxRegions = 4096;      // timestamp regions one recording can hold
   // Back tensors created during the recording with the memory of its tensors that are gone
   // (runtime/recording_memory.h). Off: every tensor the recording uses keeps its own memory.
@@ -70,6 +72,10 @@ struct StreamOptions {
 struct RegionTime {
   std::string name;
   double nanoseconds = 0;
+  // A profiled dispatch's "groups 3x112x1; constants 3,3,3,1; push 16,70992": its workgroup grid, the
+  // kernel's specialisation constants from constant_id 3 on, and its push constants as 32-bit integers in
+  // their order (a float field shows its bits); empty for a region of beginRegion().
+  std::string detail;
 };
 
 class Stream {
@@ -120,7 +126,7 @@ class Stream {
   void keepDerived(const Tensor& source, const std::string& key, const Tensor& derived);
 
   // Named GPU-timed regions; they may nest. Times are available after submit().
-  void beginRegion(std::string name);
+  void beginRegion(std::string name, std::string detail = {});
   void endRegion();
 
   // Ends recording (first time), submits, waits. May be called again to run the same recording.
@@ -173,7 +179,7 @@ class Stream {
   RecordingMemory memory_;
   std::unique_ptr<FiniteCheck> check_;
   struct Region {
-    std::string name;
+    std::string name, detail;
     uint32_t beginQuery = 0;
     uint32_t endQuery = 0;
   };

@@ -166,6 +166,25 @@ TEST_F(StreamTest, TimesRegionsOnTheGpu) {
   EXPECT_EQ(times[1].name, "tensor/axpby");
   EXPECT_GT(times[1].nanoseconds, 0);
   EXPECT_GE(times[0].nanoseconds, times[1].nanoseconds);
+  EXPECT_TRUE(times[0].detail.empty());
+}
+
+// A profiled dispatch carries its grid, the kernel's specialisation constants and its push constants, which
+// tell the reader of a profile the shape of each slow dispatch (smokesvd bench --profile-dispatches).
+TEST_F(StreamTest, ProfiledDispatchesCarryTheirGridConstantsAndPushConstants) {
+  if (!context().info().timestamps) GTEST_SKIP() << "device has no timestamps";
+  const Tensor a = randomTensor(context(), {512}, 1), b = randomTensor(context(), {512}, 2);
+  Tensor y(context(), {512});
+  Stream stream(context(), {.profileDispatches = true});
+  struct { uint32_t n; } push{512};
+  stream.dispatch(stream.kernel("tensor/binary", {64, 1, 1}, {2}), {asVec4(a), asVec4(b), Arg(y)}, push, {2, 1, 1});
+  stream.submit();
+  const std::vector<RegionTime> times = stream.regionTimes();
+  ASSERT_EQ(times.size(), 1u);
+  EXPECT_EQ(times[0].name, "tensor/binary");
+  EXPECT_EQ(times[0].detail, "groups 2x1x1; constants 2; push 512");
+  const std::vector<float> av = a.download(), bv = b.download(), yv = y.download();
+  for (std::size_t i = 0; i < yv.size(); ++i) ASSERT_EQ(yv[i], av[i] * bv[i]) << i;  // OP 2: the product
 }
 
 TEST_F(StreamTest, WrongArgumentCountIsAnError) {

@@ -74,7 +74,7 @@ BenchContext::Times BenchContext::time(const std::function<void(Stream&)>& work,
   return {median(samples), median(cpu)};
 }
 
-std::vector<ProfileLine> BenchContext::profile(const std::function<void(Stream&)>& work, StreamOptions streamOptions) {
+Profile BenchContext::profile(const std::function<void(Stream&)>& work, StreamOptions streamOptions) {
   streamOptions.profileDispatches = true;
   streamOptions.maxRegions = 1 << 16;
   Stream stream(context_, streamOptions);
@@ -96,10 +96,14 @@ std::vector<ProfileLine> BenchContext::profile(const std::function<void(Stream&)
     line.nanoseconds += region.nanoseconds;
     ++line.dispatches;
   }
-  std::vector<ProfileLine> lines;
-  for (auto& [name, line] : byShader) lines.push_back(std::move(line));
-  std::sort(lines.begin(), lines.end(), [](const ProfileLine& a, const ProfileLine& b) { return a.nanoseconds > b.nanoseconds; });
-  return lines;
+  Profile result;
+  for (auto& [name, line] : byShader) result.shaders.push_back(std::move(line));
+  std::sort(result.shaders.begin(), result.shaders.end(),
+            [](const ProfileLine& a, const ProfileLine& b) { return a.nanoseconds > b.nanoseconds; });
+  std::sort(fastest.begin(), fastest.end(), [](const RegionTime& a, const RegionTime& b) { return a.nanoseconds > b.nanoseconds; });
+  const auto kept = std::min<std::size_t>(fastest.size(), static_cast<std::size_t>(std::max(options_.slowestDispatches, 0)));
+  for (std::size_t i = 0; i < kept; ++i) result.dispatches.push_back({fastest[i].name, fastest[i].detail, fastest[i].nanoseconds});
+  return result;
 }
 
 void BenchContext::measure(std::string name, std::string shape, double bytes, double flops,

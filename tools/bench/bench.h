@@ -23,6 +23,18 @@ struct ProfileLine {
   int dispatches = 0;
 };
 
+// One dispatch of that run (`--profile-dispatches N` keeps a recording's N slowest): its shader, time, and
+// workgroup grid, specialisation constants and push constants (RegionTime::detail), which tell its shape.
+struct DispatchLine {
+  std::string shader, detail;
+  double nanoseconds = 0;
+};
+
+struct Profile {
+  std::vector<ProfileLine> shaders;     // slowest first
+  std::vector<DispatchLine> dispatches;  // the slowest BenchOptions::slowestDispatches, slowest first
+};
+
 struct Measurement {
   std::string name;        // e.g. "copy/texel"
   std::string shape;       // what was run, e.g. "[16777216]" or "3x3 64->64 @ 64x64"
@@ -37,7 +49,7 @@ struct Measurement {
   uint64_t heldBytes = 0;
   uint64_t heldBytesWithoutReuse = 0;
   uint64_t poolPeakBytes = 0;
-  std::vector<ProfileLine> profile;  // slowest shaders first (with --profile)
+  Profile profile;                   // with --profile
   std::string notRun;                // why it was not measured (the device cannot hold it); empty if it was
   double gbPerSecond() const { return bytes > 0 && medianNs > 0 ? bytes / medianNs : 0; }
   double gflopPerSecond() const { return flops > 0 && medianNs > 0 ? flops / medianNs : 0; }
@@ -48,6 +60,7 @@ struct BenchOptions {
   int warmup = 3;
   int runs = 15;
   bool profile = false;  // also run each recording once timed per dispatch (Measurement::profile)
+  int slowestDispatches = 0;  // with profile: how many of each recording's slowest dispatches to list
 };
 
 class BenchContext {
@@ -74,8 +87,8 @@ class BenchContext {
   void measureStep(std::string name, std::string shape, double flops, StreamOptions streamOptions,
                    const std::function<void(Stream&)>& work);
   // Records `work` once with a timestamp around every dispatch, runs it a few times after a warm-up and
-  // returns the time per shader, each dispatch at its fastest run.
-  std::vector<ProfileLine> profile(const std::function<void(Stream&)>& work, StreamOptions streamOptions = {});
+  // returns the time per shader and the slowest dispatches, each dispatch at its fastest run.
+  Profile profile(const std::function<void(Stream&)>& work, StreamOptions streamOptions = {});
   const BenchOptions& options() const { return options_; }
   void setOptions(BenchOptions options) { options_ = options; }
   void add(Measurement measurement) { results_.push_back(std::move(measurement)); }

@@ -107,7 +107,8 @@ PresetScratch& scratch(Context& context, const std::string& presetName) {
 class StepTiming {
  public:
   explicit StepTiming(BenchContext& b) : b_(b), given_(b.options()) {
-    b.setOptions({.warmup = std::min(given_.warmup, 1), .runs = std::min(given_.runs, 5), .profile = given_.profile});
+    b.setOptions({.warmup = std::min(given_.warmup, 1), .runs = std::min(given_.runs, 5), .profile = given_.profile,
+                  .slowestDispatches = given_.slowestDispatches});
   }
   ~StepTiming() { b_.setOptions(given_); }
   StepTiming(const StepTiming&) = delete;

@@ -39,21 +39,27 @@ std::string figure(double value, const char* format = "%.2f") {
 
 double percent(double value, double reference) { return reference > 0 ? 100.0 * value / reference : 0; }
 
-// Each measurement's time per shader, slowest first, as a share of the profiled run (--profile).
+// Each measurement's time per shader, slowest first, as a share of the profiled run (--profile), then its
+// slowest dispatches with their grids, constants and push constants (--profile-dispatches).
 void printProfiles(const std::vector<bench::Measurement>& results) {
   for (const bench::Measurement& m : results) {
-    if (m.profile.empty()) continue;
+    if (m.profile.shaders.empty()) continue;
     double total = 0;
     int dispatches = 0;
-    for (const bench::ProfileLine& line : m.profile) {
+    for (const bench::ProfileLine& line : m.profile.shaders) {
       total += line.nanoseconds;
       dispatches += line.dispatches;
     }
     std::printf("profile of %s: %d dispatches, %.1f us in them (a timed run: %.1f us, CPU %.1f us)\n", m.name.c_str(),
                 dispatches, total / 1000.0, m.medianNs / 1000.0, m.medianCpuNs / 1000.0);
-    for (const bench::ProfileLine& line : m.profile)
+    for (const bench::ProfileLine& line : m.profile.shaders)
       std::printf("  %-40s %12.1f us %6d %6.1f %%\n", line.shader.c_str(), line.nanoseconds / 1000.0, line.dispatches,
                   percent(line.nanoseconds, total));
+    if (m.profile.dispatches.empty()) continue;
+    std::printf("slowest dispatches of %s:\n", m.name.c_str());
+    for (const bench::DispatchLine& line : m.profile.dispatches)
+      std::printf("  %-40s %12.1f us %6.1f %%  %s\n", line.shader.c_str(), line.nanoseconds / 1000.0,
+                  percent(line.nanoseconds, total), line.detail.c_str());
   }
 }
 
@@ -136,6 +142,16 @@ void printJson(const Context& context, const Results& results) {
                            {"percent_of_copy", percent(m.gbPerSecond(), reference.bandwidthGbps)},
                            {"percent_of_peak", percent(m.gflopPerSecond(), reference.peakGflops)}};
       if (!m.notRun.empty()) entry["not_run"] = m.notRun;
+      if (!m.profile.shaders.empty()) {
+        entry["profile"] = nlohmann::json::array();
+        for (const bench::ProfileLine& line : m.profile.shaders)
+          entry["profile"].push_back({{"shader", line.shader}, {"ns", line.nanoseconds}, {"dispatches", line.dispatches}});
+      }
+      if (!m.profile.dispatches.empty()) {
+        entry["slowest_dispatches"] = nlohmann::json::array();
+        for (const bench::DispatchLine& line : m.profile.dispatches)
+          entry["slowest_dispatches"].push_back({{"shader", line.shader}, {"ns", line.nanoseconds}, {"detail", line.detail}});
+      }
       if (m.heldBytes > 0) {
         entry["held_bytes"] = m.heldBytes;
         entry["held_bytes_without_reuse"] = m.heldBytesWithoutReuse;
@@ -164,9 +180,14 @@ void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action)
       ->check(wholeNumber(1, 1000));
   command->add_flag("--profile", args.options.profile,
                     "also time every dispatch of each recording once and print each shader's share");
+  command->add_option("--profile-dispatches", args.options.slowestDispatches,
+                      "with --profile (which it implies): also list each recording's N slowest dispatches with their "
+                      "workgroup grid, specialisation constants and push constants, which tell their shapes")
+      ->check(wholeNumber(0, 100000));
   command->add_flag("!--no-reference", args.reference,
                     "skip measuring the reference figures (loop-FMA peak, copy bandwidth) and the % columns");
   command->callback([&global, &action] {
+    if (args.options.slowestDispatches > 0) args.options.profile = true;
     action = [&global] {
       if (args.list) {
         for (const bench::Benchmark& b : bench::benchmarks()) std::cout << b.name << "\n";

@@ -57,6 +57,28 @@ TEST(Cli, BenchJsonReportsDeviceAndKernels) {
   EXPECT_GT(json.at("reference").at("copy_gb_per_s").get<double>(), 0);
 }
 
+// --profile-dispatches lists each recording's slowest dispatches, slowest first, with their grids and push
+// constants (it implies --profile).
+TEST(Cli, BenchListsTheSlowestDispatches) {
+  const CommandResult result =
+      runSmokesvd("bench basic/concat --json --runs 1 --warmup 0 --no-reference --profile-dispatches 1");
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  const auto json = nlohmann::json::parse(result.out);
+  ASSERT_FALSE(json.at("results").empty());
+  const auto& entry = json["results"][0];  // concatenating two tensors: two dispatches
+  ASSERT_EQ(entry.at("profile").size(), 1u);
+  EXPECT_EQ(entry["profile"][0].at("dispatches").get<int>(), 2);
+  const auto& slowest = entry.at("slowest_dispatches");
+  ASSERT_EQ(slowest.size(), 1u);
+  for (std::size_t i = 0; i < slowest.size(); ++i) {
+    EXPECT_FALSE(slowest[i].at("shader").get<std::string>().empty());
+    EXPECT_EQ(slowest[i].at("detail").get<std::string>().rfind("groups ", 0), 0u) << slowest[i].dump();
+    if (i > 0) {
+      EXPECT_GE(slowest[i - 1].at("ns").get<double>(), slowest[i].at("ns").get<double>());
+    }
+  }
+}
+
 TEST(Cli, BenchWithUnknownFilterFails) {
   const CommandResult result = runSmokesvd("bench no-such-kernel");
   EXPECT_NE(result.exitCode, 0);
