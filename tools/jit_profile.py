@@ -2,18 +2,20 @@
 """Where the time of a benchmark goes inside the machine code llvmpipe compiled for it (lavapipe only).
 
 Lavapipe compiles every shader to x86 code at run time, so a CPU profiler sees only anonymous addresses.
-This tool runs `smokesvd bench FILTER` in the background, samples it with `perf record -e cpu-clock`
+This tool runs `smokesvd bench FILTER` (or, with --run, any smokesvd command) in the background, samples it with `perf record -e cpu-clock`
 (a software clock: no hardware counters needed), disassembles the process's anonymous executable
 mappings (the compiled shaders) with gdb while it still runs, and prints, per compiled function, its
 share of the samples and its instruction mix: calls (llvmpipe compiles each texel fetch as a call to a
 fetch function), multiplies and adds (llvmpipe emits no fused multiply-add), blends with the execution
-mask, vector moves (spills and reloads). `--top N` also lists the N hottest instructions. `--save DIR`
+mask, vector moves (spills and reloads); and the share of the small leaf functions (under 100
+instructions, no calls: llvmpipe's texel-fetch helpers). `--top N` also lists the N hottest instructions. `--save DIR`
 keeps the disassembly (jit.asm) and the sampled addresses (samples.txt, one hexadecimal address a line);
 `--from DIR` reports on such a folder again without running anything.
 
     tools/jit_profile.py conv/3d-3x3x3-32 --seconds 10
     tools/jit_profile.py train/grho-coarse/small --settle 30 --top 20 --save /tmp/grho-profile
     tools/jit_profile.py --from /tmp/grho-profile --top 40
+    tools/jit_profile.py --run "train grho-coarse --data data/small --out /tmp/run --steps 300 --overwrite" --settle 60
 
 Needs perf (Debian: linux-perf) and gdb, and permission to attach to the process (root, or
 kernel.yama.ptrace_scope = 0 and kernel.perf_event_paranoid <= 2). docs/benchmarks.md, "Findings about
@@ -80,22 +82,27 @@ def disassemble(pid, ranges, path):
     os.remove(script)
     with open(path) as f:
         lines = f.readlines()
+    seen = set()  # gdb reads on from one mapping into the next: each address once
     with open(path, "w") as f:
         for line in lines:
             m = INSTRUCTION.match(line)
-            if m and any(start <= int(m.group(1), 16) < end for start, end in ranges):
+            if not m:
+                continue
+            address = int(m.group(1), 16)
+            if address not in seen and any(start <= address < end for start, end in ranges):
+                seen.add(address)
                 f.write(line)
 
 
 def read_disassembly(path):
-    """[(address, instruction text)] of a gdb disassembly."""
-    code = []
+    """[(address, instruction text)] of a gdb disassembly, in address order, each address once."""
+    code = {}
     with open(path) as f:
         for line in f:
             m = INSTRUCTION.match(line)
             if m:
-                code.append((int(m.group(1), 16), m.group(2).strip()))
-    return code
+                code.setdefault(int(m.group(1), 16), m.group(2).strip())
+    return sorted(code.items())
 
 
 def read_samples(path):
@@ -138,12 +145,14 @@ def report(code, samples, top, out):
         mnemonics = collections.Counter(text.split()[0] for _, text in body if text)
         mix = {kind: sum(n for m, n in mnemonics.items() if is_kind(m, names)) for kind, names in COUNTED.items()}
         rows.append((share, body[0][0], len(body), mix))
+    leaves = sum(share for share, _, length, mix in rows if length < 100 and mix["calls"] == 0)
     for share, start, length, mix in sorted(rows, reverse=True):
         if share < 0.005 * total:
             continue
         described = ", ".join(f"{name} {n}" for name, n in mix.items() if n)
         out.write(f"  {100 * share / total:5.1f} %  {start:#x}  {length:5d} instructions: {described}\n")
     out.write(f"  {100 * (total - in_code) / total:5.1f} %  outside compiled shaders (driver, kernel, program)\n")
+    out.write(f"small leaf functions (under 100 instructions, no calls: the fetch helpers): {100 * leaves / total:.1f} %\n")
     if top:
         out.write(f"the {top} hottest instructions:\n")
         text_at = dict(code)
@@ -156,19 +165,20 @@ def report(code, samples, top, out):
 
 
 def profile(args, folder):
-    """Runs the benchmark, samples it, and writes jit.asm and samples.txt into folder."""
+    """Runs the benchmark (or the --run command), samples it, and writes jit.asm and samples.txt into folder."""
     for tool in ("perf", "gdb"):
         require(tool)
     if not os.access(args.smokesvd, os.X_OK):
         sys.exit(f"jit_profile: {args.smokesvd}: not an executable program (build it, or pass --smokesvd)")
-    bench = subprocess.Popen([args.smokesvd, "bench", args.filter, "--no-reference", "--runs", "100000"],
-                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    command = args.run.split() if args.run else ["bench", args.filter, "--no-reference", "--runs", "100000"]
+    bench = subprocess.Popen([args.smokesvd] + command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     try:
         time.sleep(args.settle)
         if bench.poll() is not None:
-            sys.exit(f"jit_profile: '{args.filter}' ended within the {args.settle:g} s of --settle, before sampling "
-                     f"(the training-step benchmarks time a fixed five steps: profile a kernel benchmark, which "
-                     f"runs --runs times){': ' + bench.stderr.read().strip() if bench.returncode else ''}")
+            sys.exit(f"jit_profile: 'smokesvd {' '.join(command)}' ended within the {args.settle:g} s of --settle, "
+                     f"before sampling (the training-step benchmarks time a fixed five steps: profile a kernel "
+                     f"benchmark, which runs --runs times, or a training run with --run)"
+                     f"{': ' + bench.stderr.read().strip() if bench.returncode else ''}")
         perf_data = os.path.join(folder, "perf.data")
         subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-F", "2000", "-p", str(bench.pid),
                         "-o", perf_data, "--", "sleep", str(args.seconds)], check=True,
@@ -190,6 +200,7 @@ def main():
     parser.add_argument("--top", type=int, default=0, help="also list the N hottest instructions")
     parser.add_argument("--save", help="keep the disassembly and the samples in this folder")
     parser.add_argument("--from", dest="saved", help="report on a folder written by --save; runs nothing")
+    parser.add_argument("--run", help="profile this smokesvd command (its arguments, in quotes) instead of a benchmark")
     args = parser.parse_args()
     if args.saved:
         folder = args.saved
@@ -199,8 +210,8 @@ def main():
         report(read_disassembly(os.path.join(folder, "jit.asm")), read_samples(os.path.join(folder, "samples.txt")),
                args.top, sys.stdout)
         return
-    if not args.filter:
-        parser.error("name the benchmark to profile, or --from a saved folder")
+    if not args.filter and not args.run:
+        parser.error("name the benchmark to profile, a command with --run, or --from a saved folder")
     with tempfile.TemporaryDirectory() as scratch:
         folder = args.save or scratch
         os.makedirs(folder, exist_ok=True)

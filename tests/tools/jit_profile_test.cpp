@@ -52,6 +52,7 @@ TEST(JitProfileTest, ReportsEachCompiledFunctionsShareAndInstructionMix) {
             "   60.0 %  0x1000      6 instructions: calls 1, multiplies 1, adds 1, blends 1\n"
             "   20.0 %  0x1020      3 instructions: vector moves 1, lane extracts 1\n"
             "   20.0 %  outside compiled shaders (driver, kernel, program)\n"
+            "small leaf functions (under 100 instructions, no calls: the fetch helpers): 20.0 %\n"
             "the 1 hottest instructions:\n"
             "  60.00 %  0x1004  vmulps %ymm1,%ymm2,%ymm3\n");
 }
