@@ -2,20 +2,24 @@
 """Where the time of a benchmark goes inside the machine code llvmpipe compiled for it (lavapipe only).
 
 Lavapipe compiles every shader to x86 code at run time, so a CPU profiler sees only anonymous addresses.
-This tool runs `smokesvd bench FILTER` (or, with --run, any smokesvd command) in the background, samples it with `perf record -e cpu-clock`
-(a software clock: no hardware counters needed), disassembles the process's anonymous executable
-mappings (the compiled shaders) with gdb while it still runs, and prints, per compiled function, its
-share of the samples and its instruction mix: calls (llvmpipe compiles each texel fetch as a call to a
-fetch function), multiplies and adds (llvmpipe emits no fused multiply-add), blends with the execution
-mask, vector moves (spills and reloads); and the share of the small leaf functions (under 100
-instructions, no calls: llvmpipe's texel-fetch helpers). `--top N` also lists the N hottest instructions. `--save DIR`
-keeps the disassembly (jit.asm) and the sampled addresses (samples.txt, one hexadecimal address a line);
-`--from DIR` reports on such a folder again without running anything.
+This tool runs `smokesvd bench FILTER` (or, with --run, any smokesvd command) in the background, samples
+it with `perf record -e cpu-clock` (a software clock: no hardware counters needed), disassembles the
+process's anonymous executable mappings (the compiled shaders) with gdb while it still runs, and prints,
+per compiled function, its share of the samples and its instruction mix: calls (llvmpipe compiles each
+texel fetch as a call to a fetch function), multiplies and adds (llvmpipe emits no fused multiply-add for
+the shaders' arithmetic), blends with the execution mask, vector moves (spills and reloads); and the share
+of the small leaf functions (under 100 instructions, no calls: llvmpipe's texel-fetch helpers). `--top N`
+also lists the N hottest instructions. `--save DIR` keeps the disassembly (jit.asm) and the sampled
+addresses (samples.txt, one hexadecimal address a line); `--from DIR` reports on such a folder again
+without running anything.
 
     tools/jit_profile.py conv/3d-3x3x3-32 --seconds 10
-    tools/jit_profile.py train/grho-coarse/small --settle 30 --top 20 --save /tmp/grho-profile
-    tools/jit_profile.py --from /tmp/grho-profile --top 40
+    tools/jit_profile.py conv-net/grho-small --top 20 --save /tmp/conv-profile
+    tools/jit_profile.py --from /tmp/conv-profile --top 40
     tools/jit_profile.py --run "train grho-coarse --data data/small --out /tmp/run --steps 300 --overwrite" --settle 60
+
+A benchmark repeats its first kernel `--runs` times before the next, so the samples are of that kernel;
+the training-step benchmarks time a fixed five steps and end too soon: profile a training run with --run.
 
 Needs perf (Debian: linux-perf) and gdb, and permission to attach to the process (root, or
 kernel.yama.ptrace_scope = 0 and kernel.perf_event_paranoid <= 2). docs/benchmarks.md, "Findings about
@@ -25,6 +29,7 @@ import argparse
 import collections
 import os
 import re
+import shlex
 import shutil
 import signal
 import subprocess
@@ -170,15 +175,20 @@ def profile(args, folder):
         require(tool)
     if not os.access(args.smokesvd, os.X_OK):
         sys.exit(f"jit_profile: {args.smokesvd}: not an executable program (build it, or pass --smokesvd)")
-    command = args.run.split() if args.run else ["bench", args.filter, "--no-reference", "--runs", "100000"]
-    bench = subprocess.Popen([args.smokesvd] + command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    command = shlex.split(args.run) if args.run else ["bench", args.filter, "--no-reference", "--runs", "100000"]
+    log_path = os.path.join(folder, "program.log")
+    with open(log_path, "w") as log:
+        bench = subprocess.Popen([args.smokesvd] + command, stdout=subprocess.DEVNULL, stderr=log)
     try:
         time.sleep(args.settle)
         if bench.poll() is not None:
-            sys.exit(f"jit_profile: 'smokesvd {' '.join(command)}' ended within the {args.settle:g} s of --settle, "
+            with open(log_path) as log:
+                said = log.read().strip().splitlines()
+            if bench.returncode != 0:
+                sys.exit(f"jit_profile: 'smokesvd {shlex.join(command)}' failed: {said[-1] if said else 'no message'}")
+            sys.exit(f"jit_profile: 'smokesvd {shlex.join(command)}' ended within the {args.settle:g} s of --settle, "
                      f"before sampling (the training-step benchmarks time a fixed five steps: profile a kernel "
-                     f"benchmark, which runs --runs times, or a training run with --run)"
-                     f"{': ' + bench.stderr.read().strip() if bench.returncode else ''}")
+                     f"benchmark, which runs --runs times, or a training run with --run)")
         perf_data = os.path.join(folder, "perf.data")
         subprocess.run(["perf", "record", "-q", "-e", "cpu-clock", "-F", "2000", "-p", str(bench.pid),
                         "-o", perf_data, "--", "sleep", str(args.seconds)], check=True,
