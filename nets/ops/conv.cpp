@@ -84,7 +84,7 @@ void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tenso
   pass.taps = g.kernel;
   pass.stride = g.stride;
   pass.grid = g.output;
-  conv::direct(stream, xp, packed, bias, conv::as5d(y), pass, pixels, channelVec4s, {.addend = addend});
+  conv::direct(stream, xp, packed, bias, conv::as5d(y), pass, chosen, {.addend = addend});
 }
 
 // dx = d<dy, conv(x, w)>/dx (+ b): the transposed convolution, as stride^3 phases, with the output terms
@@ -144,7 +144,7 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
         pass.taps = packing.taps;
         if (!gathers) pass.taps = {0, 1, 1};  // no taps; keeps the kernel's row arrays non-empty
         const Tensor packed = conv::packWeights(stream, w, packing, paddedK);
-        conv::direct(stream, dyp, packed, bias, dx5, pass, pixels, channelVec4s, terms);
+        conv::direct(stream, dyp, packed, bias, dx5, pass, chosen, terms);
       }
     }
   }

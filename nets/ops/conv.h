@@ -23,11 +23,16 @@ struct ConvParams {
   float inputSlope = 1.0f;
 };
 
-// Register blocking of the kernels; 0 lets the host choose from the shapes. Every choice gives the same
-// result up to float rounding order; it only changes speed.
+// In what order the direct pass fetches an input channel's rows and taps (docs/convolution.md,
+// conv_direct): each kernel row's just before its multiply-adds, or all of the channel's first.
+enum class DirectFetch { DeviceDefault, PerKernelRow, PerInputChannel };
+
+// Register blocking of the kernels; 0 (and DeviceDefault) lets the host choose from the shapes and the
+// device. Every choice gives the same result up to float rounding order; it only changes speed.
 struct ConvBlocking {
   int pixels = 0;        // consecutive outputs along x per invocation, 1..16
   int channelVec4s = 0;  // output channels per invocation, in groups of 4, 1..4
+  DirectFetch fetch = DirectFetch::DeviceDefault;  // the direct pass (forward, backward-input, transposed)
 };
 
 Shape convOutputShape(const Shape& x, const Shape& w, const ConvParams& params);

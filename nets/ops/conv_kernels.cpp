@@ -32,9 +32,10 @@ constexpr int kPointwiseGradChannels = 4;  // input and output channels per invo
 // channel blocks (fewer invocations per chunk, so the row reduction is split into more chunks).
 struct DeviceDefaults {
   int directPixels2d, directPixels3d, weightGradPixels, weightGradChannelVec4s;
+  DirectFetch directFetch;
 };
-constexpr DeviceDefaults kCpuDefaults{8, 16, 4, 2};  // lavapipe
-constexpr DeviceDefaults kGpuDefaults{4, 8, 8, 4};   // NVIDIA H100
+constexpr DeviceDefaults kCpuDefaults{8, 16, 4, 2, DirectFetch::PerInputChannel};  // lavapipe
+constexpr DeviceDefaults kGpuDefaults{4, 8, 8, 4, DirectFetch::PerKernelRow};      // NVIDIA H100
 // Pointwise pass: position vec4s and output channels per invocation.
 struct PointwiseDefaults {
   int positionVec4s, channels;
@@ -83,7 +84,8 @@ ConvBlocking directBlocking(const DeviceInfo& device, ConvBlocking requested, in
   const DeviceDefaults& d = defaultsFor(device);
   const int defaultPixels = kernelDepth > 1 ? d.directPixels3d : d.directPixels2d;
   const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(defaultPixels, gridWidth);
-  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : 1};
+  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : 1,
+          requested.fetch != DirectFetch::DeviceDefault ? requested.fetch : d.directFetch};
 }
 
 ConvBlocking weightGradBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t outWidth,
@@ -141,7 +143,8 @@ Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int6
 }
 
 void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const Tensor* bias, const Tensor& y5,
-            const DirectPass& pass, int pixels, int channelVec4s, const OutputTerms& terms) {
+            const DirectPass& pass, const ConvBlocking& blocking, const OutputTerms& terms) {
+  const int pixels = blocking.pixels, channelVec4s = blocking.channelVec4s;
   const Shape& out = y5.shape();
   const bool gates = terms.gate != nullptr && terms.gateSlope != 1.0f;
   for (const auto& [what, tensor] : {std::pair{"gate", terms.gate}, std::pair{"addend", terms.addend}})
@@ -178,7 +181,8 @@ void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const
   const Kernel& kernel =
       stream.kernel("nn/conv_direct", {kDirectWorkgroup, 1, 1},
                     {i32(pass.taps[0]), i32(pass.taps[1]), i32(pass.taps[2]), pass.stride, pixels, channelVec4s,
-                     bias != nullptr ? 1 : 0, alignedRows ? 1 : 0, gates ? 1 : 0, terms.addend != nullptr ? 1 : 0});
+                     bias != nullptr ? 1 : 0, alignedRows ? 1 : 0, gates ? 1 : 0, terms.addend != nullptr ? 1 : 0,
+                     blocking.fetch == DirectFetch::PerInputChannel ? 1 : 0});
   const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(packedWeights);
   const Arg gateArg = gates ? Arg(*terms.gate) : Arg(xp.tensor);
   const Arg addendArg = terms.addend != nullptr ? Arg(*terms.addend) : Arg(xp.tensor);

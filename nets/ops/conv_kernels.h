@@ -63,7 +63,7 @@ struct OutputTerms {
   const Tensor* addend = nullptr;
 };
 void direct(Stream& stream, const Padded& xp, const Tensor& packedWeights, const Tensor* bias, const Tensor& y5,
-            const DirectPass& pass, int pixels, int channelVec4s, const OutputTerms& terms = {});
+            const DirectPass& pass, const ConvBlocking& blocking, const OutputTerms& terms = {});
 
 // Output gradient [N, K, D, H, W] as rows with channels last: [N*D*H, paddedWidth, paddedK], zero-filled.
 Tensor packGrad(Stream& stream, const Tensor& g5, int64_t paddedWidth, int64_t paddedK);

@@ -19,6 +19,12 @@
 // vec4s when the rows start on a vec4, ALIGNED_ROWS) and reuses each for up to KW taps and all its
 // channels; each weight vec4 serves PIXELS outputs. Every inner loop has a constant trip count and
 // indexes a local array of that length by its counter, so it is unrolled and the arrays become registers.
+// Fetch order: by kernel row (default), each (r, s) row's inputs and taps are fetched and multiplied
+// before the next row's; with PER_INPUT_CHANNEL, all KD*KH rows and all taps of an input channel are
+// fetched first and then each accumulator takes all of the channel's multiply-adds in one run. The sums
+// are the same, in the same order. On lavapipe every fetch is a call that spills the accumulators, so
+// the second order moves each accumulator through memory once per input channel instead of once per
+// kernel row (docs/convolution.md); on a GPU the first keeps fewer values live.
 // Lanes run along the flattened (x block, oy, oz), workgroup y; workgroup x is the channel block, so the
 // blocks of one tile run one after another and find its inputs in cache; workgroup z is the batch item.
 // Positions ox >= gridW and channels k >= K are computed but not written.
@@ -33,9 +39,12 @@ layout(constant_id = 9) const bool HAS_BIAS = false;
 layout(constant_id = 10) const bool ALIGNED_ROWS = false;
 layout(constant_id = 11) const bool GATE = false;
 layout(constant_id = 12) const bool ADDEND = false;
+layout(constant_id = 13) const bool PER_INPUT_CHANNEL = false;
 
 const int SPAN = (PIXELS - 1) * STRIDE + KW;
 const int SPAN_VEC4S = (SPAN + 3) / 4;
+const int ROWS = KD * KH;  // kernel rows (r, s) per input channel
+const int ROW_SLOTS = ROWS > 0 ? ROWS : 1;  // a phase with no taps (KD = 0) keeps its arrays non-empty
 
 layout(binding = 0) uniform samplerBuffer xp;
 layout(binding = 1) uniform samplerBuffer xp4;
@@ -64,6 +73,13 @@ layout(push_constant) uniform Push {
   float gateSlope;
 };
 
+// Input values rowStart + 4i .. rowStart + 4i + 3.
+vec4 inputVec4(int rowStart, int i) {
+  if (ALIGNED_ROWS) return texelFetch(xp4, rowStart / 4 + i);
+  const int at = rowStart + 4 * i;
+  return vec4(texelFetch(xp, at).x, texelFetch(xp, at + 1).x, texelFetch(xp, at + 2).x, texelFetch(xp, at + 3).x);
+}
+
 void main() {
   const int item = int(gl_WorkGroupID.y * gl_WorkGroupSize.x + gl_LocalInvocationID.x);
   const int xBlock = item % xBlocks;
@@ -85,23 +101,27 @@ void main() {
   int source = inBase + n * channels * inPlane + oz * STRIDE * inSlice + oy * STRIDE * inRow + ox0 * STRIDE;
   int w = kBlock * CHANNEL_VEC4S;
   for (int c = 0; c < channels; ++c, source += inPlane, w += tapsPerChannel) {
-    for (int r = 0; r < KD; ++r) {
-      for (int s = 0; s < KH; ++s) {
-        const int rowStart = source + r * inSlice + s * inRow;
-        const int tapRow = w + (r * KH + s) * KW * weightRow;
-        vec4 v[SPAN_VEC4S];
-        for (int i = 0; i < SPAN_VEC4S; ++i) {
-          if (ALIGNED_ROWS) {
-            v[i] = texelFetch(xp4, rowStart / 4 + i);
-          } else {
-            const int at = rowStart + 4 * i;
-            v[i] = vec4(texelFetch(xp, at).x, texelFetch(xp, at + 1).x, texelFetch(xp, at + 2).x,
-                        texelFetch(xp, at + 3).x);
-          }
+    if (PER_INPUT_CHANNEL) {
+      vec4 v[ROW_SLOTS][SPAN_VEC4S];
+      for (int row = 0; row < ROWS; ++row)
+        for (int i = 0; i < SPAN_VEC4S; ++i) v[row][i] = inputVec4(source + (row / KH) * inSlice + (row % KH) * inRow, i);
+      vec4 weight[ROW_SLOTS * KW][CHANNEL_VEC4S];
+      for (int tap = 0; tap < ROWS * KW; ++tap)
+        for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[tap][q] = texelFetch(wp, w + tap * weightRow + q);
+      for (int p = 0; p < PIXELS; ++p)
+        for (int q = 0; q < CHANNEL_VEC4S; ++q) {
+          vec4 sum = acc[p][q];
+          for (int row = 0; row < ROWS; ++row)
+            for (int t = 0; t < KW; ++t) sum += v[row][(p * STRIDE + t) / 4][(p * STRIDE + t) % 4] * weight[row * KW + t][q];
+          acc[p][q] = sum;
         }
+    } else {
+      for (int row = 0; row < ROWS; ++row) {
+        vec4 v[SPAN_VEC4S];
+        for (int i = 0; i < SPAN_VEC4S; ++i) v[i] = inputVec4(source + (row / KH) * inSlice + (row % KH) * inRow, i);
         vec4 weight[KW][CHANNEL_VEC4S];
         for (int t = 0; t < KW; ++t)
-          for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[t][q] = texelFetch(wp, tapRow + t * weightRow + q);
+          for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[t][q] = texelFetch(wp, w + (row * KW + t) * weightRow + q);
         for (int p = 0; p < PIXELS; ++p)
           for (int t = 0; t < KW; ++t)
             for (int q = 0; q < CHANNEL_VEC4S; ++q) acc[p][q] += v[(p * STRIDE + t) / 4][(p * STRIDE + t) % 4] * weight[t][q];

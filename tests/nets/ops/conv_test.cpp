@@ -71,7 +71,8 @@ class ConvTest : public GpuTest {
         ops::convForward(stream, x.tensor, w.tensor, biasTensor, params(c.spec), y, blocking);
       stream.submit();
       EXPECT_TRUE(allClose(y, expected, kTolerance))
-          << describe(c) << " blocking " << blocking.pixels << "x" << blocking.channelVec4s;
+          << describe(c) << " blocking " << blocking.pixels << "x" << blocking.channelVec4s << " fetch "
+          << static_cast<int>(blocking.fetch);
     }
   }
 
@@ -151,10 +152,41 @@ TEST_F(ConvTest, Forward3dOddShapes) {
 }
 
 TEST_F(ConvTest, EveryBlockingGivesTheSameForward) {
-  // Includes the CPU defaults (8 and 16 pixels x 1 vec4) and the GPU defaults (4 and 8 x 1).
-  const std::initializer_list<ops::ConvBlocking> blockings{{1, 1}, {3, 3}, {4, 1}, {8, 1}, {8, 4}, {16, 1}};
+  // Includes the CPU defaults (8 and 16 pixels x 1 vec4, fetching per input channel) and the GPU defaults
+  // (4 and 8 x 1, per kernel row), each blocking in both fetch orders.
+  using enum ops::DirectFetch;
+  const std::initializer_list<ops::ConvBlocking> blockings{
+      {1, 1, PerKernelRow}, {3, 3, PerKernelRow}, {4, 1, PerKernelRow},    {8, 1, PerKernelRow},
+      {8, 4, PerKernelRow}, {16, 1, PerKernelRow}, {1, 1, PerInputChannel}, {3, 3, PerInputChannel},
+      {4, 1, PerInputChannel}, {8, 1, PerInputChannel}, {8, 4, PerInputChannel}, {16, 1, PerInputChannel}};
   checkForward(Case{{2, 5, 6, 11}, {7, 5, 3, 3}, {1, 1}, true}, false, blockings);
   checkForward(Case{{1, 3, 5, 4, 9}, {5, 3, 3, 3, 3}, {2, 1}}, false, blockings);
+  // Transposed: stride-2 phases with different tap counts each.
+  checkForward(Case{{1, 4, 3, 4, 5}, {4, 6, 3, 3, 3}, {2, 1}, true}, true, blockings);
+}
+
+// The two fetch orders of the direct pass add the same products in the same order: equal to the bit, for
+// the forward pass and the input gradient (through a leaky ReLU gate and an addend).
+TEST_F(ConvTest, BothFetchOrdersGiveBitIdenticalResults) {
+  const Shape xShape{2, 6, 5, 7, 9}, wShape{7, 6, 3, 3, 3};
+  const Operand x = operand(context(), xShape, 21), w = operand(context(), wShape, 22), b = operand(context(), {7}, 23);
+  ops::ConvParams p;
+  p.padding = 1;
+  p.inputSlope = 0.2f;
+  const Shape yShape = ops::convOutputShape(xShape, wShape, p);
+  const Operand dy = operand(context(), yShape, 24), addend = operand(context(), xShape, 25);
+  std::vector<std::vector<float>> forward, inputGradient;
+  for (const ops::DirectFetch fetch : {ops::DirectFetch::PerKernelRow, ops::DirectFetch::PerInputChannel}) {
+    Tensor y = poisonedTensor(context(), yShape), dx = poisonedTensor(context(), xShape);
+    Stream stream(context());
+    ops::convForward(stream, x.tensor, w.tensor, &b.tensor, p, y, {8, 2, fetch});
+    ops::convBackwardActivatedInput(stream, dy.tensor, w.tensor, x.tensor, p, dx, &addend.tensor, {8, 2, fetch});
+    stream.submit();
+    forward.push_back(y.download());
+    inputGradient.push_back(dx.download());
+  }
+  EXPECT_EQ(forward[0], forward[1]);
+  EXPECT_EQ(inputGradient[0], inputGradient[1]);
 }
 
 TEST_F(ConvTest, EveryBlockingGivesTheSameWeightGradient) {
