@@ -34,7 +34,7 @@ struct DeviceDefaults {
   int directPixels2d, directPixels3d, weightGradPixels, weightGradChannelVec4s;
   DirectFetch directFetch;
 };
-constexpr DeviceDefaults kCpuDefaults{8, 16, 4, 2, DirectFetch::PerInputChannel};  // lavapipe
+constexpr DeviceDefaults kCpuDefaults{16, 16, 8, 4, DirectFetch::PerInputChannel};  // lavapipe
 constexpr DeviceDefaults kGpuDefaults{4, 8, 8, 4, DirectFetch::PerKernelRow};      // NVIDIA H100
 // Pointwise pass: position vec4s and output channels per invocation.
 struct PointwiseDefaults {
@@ -93,8 +93,10 @@ ConvBlocking weightGradBlocking(const DeviceInfo& device, ConvBlocking requested
   requireBlocking(requested);
   const DeviceDefaults& d = defaultsFor(device);
   const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(d.weightGradPixels, outWidth);
+  // The fewest blocks of at most the default vec4s, balanced: 12 channels one block of 3, 24 two of 3.
   const int filled = static_cast<int>((outChannels + 3) / 4);  // vec4s the output channels fill
-  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : std::min(d.weightGradChannelVec4s, filled)};
+  const int blocks = (filled + d.weightGradChannelVec4s - 1) / d.weightGradChannelVec4s;
+  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : (filled + blocks - 1) / blocks};
 }
 
 Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, float inputSlope) {

@@ -79,10 +79,13 @@ void main() {
       vec4 grad[PIXELS][CHANNEL_VEC4S];
       for (int p = 0; p < PIXELS; ++p)
         for (int q = 0; q < CHANNEL_VEC4S; ++q) grad[p][q] = texelFetch(gT, g + p * gradRow + q);
-      for (int p = 0; p < PIXELS; ++p)
-        for (int s = 0; s < KH; ++s)
-          for (int t = 0; t < KW; ++t)
-            for (int q = 0; q < CHANNEL_VEC4S; ++q) acc[s][t][q] += v[s][(p * STRIDE + t) / 4][(p * STRIDE + t) % 4] * grad[p][q];
+      for (int s = 0; s < KH; ++s)
+        for (int t = 0; t < KW; ++t)
+          for (int q = 0; q < CHANNEL_VEC4S; ++q) {
+            vec4 sum = acc[s][t][q];
+            for (int p = 0; p < PIXELS; ++p) sum += v[s][(p * STRIDE + t) / 4][(p * STRIDE + t) % 4] * grad[p][q];
+            acc[s][t][q] = sum;
+          }
     }
   }
 

@@ -152,7 +152,7 @@ TEST_F(ConvTest, Forward3dOddShapes) {
 }
 
 TEST_F(ConvTest, EveryBlockingGivesTheSameForward) {
-  // Includes the CPU defaults (8 and 16 pixels x 1 vec4, fetching per input channel) and the GPU defaults
+  // Includes the CPU default (16 pixels x 1 vec4, fetching per input channel) and the GPU defaults
   // (4 and 8 x 1, per kernel row), each blocking in both fetch orders.
   using enum ops::DirectFetch;
   const std::initializer_list<ops::ConvBlocking> blockings{
@@ -190,15 +190,15 @@ TEST_F(ConvTest, BothFetchOrdersGiveBitIdenticalResults) {
 }
 
 TEST_F(ConvTest, EveryBlockingGivesTheSameWeightGradient) {
-  // Includes the CPU default (4 pixels x 2 vec4s) and the GPU default (8 x 4).
+  // Includes the CPU and GPU default for wide outputs (8 pixels x 4 vec4s) and the one for 12 channels (8 x 3).
   for (const Case& c : {Case{{2, 5, 6, 11}, {9, 5, 3, 3}, {1, 1}}, Case{{1, 3, 5, 4, 9}, {10, 3, 3, 3, 3}, {2, 1}}}) {
     const Operand x = operand(context(), c.x, 10);
     const Shape yShape = referenceConvOutputShape(c.x, c.w, c.spec);
     const Operand dy = operand(context(), yShape, 11);
     const std::vector<double> expected = convWeightGradReference(x.values, c.x, dy.values, c.w, c.spec);
     for (const ops::ConvBlocking blocking :
-         {ops::ConvBlocking{1, 1}, ops::ConvBlocking{3, 3}, ops::ConvBlocking{4, 2}, ops::ConvBlocking{8, 4},
-          ops::ConvBlocking{16, 1}}) {
+         {ops::ConvBlocking{1, 1}, ops::ConvBlocking{3, 3}, ops::ConvBlocking{4, 2}, ops::ConvBlocking{8, 3},
+          ops::ConvBlocking{8, 4}, ops::ConvBlocking{16, 1}}) {
       Tensor dw = poisonedTensor(context(), c.w);
       Stream stream(context());
       ops::convBackwardWeight(stream, x.tensor, dy.tensor, params(c.spec), dw, blocking);
