@@ -25,6 +25,9 @@ constexpr uint32_t kPointwiseWorkgroup = 32;  // lanes along position blocks or 
 // about kWeightGradInvocations invocations run.
 constexpr int64_t kPointwiseMinChunk = 16;
 constexpr int kPointwiseGradChannels = 4;  // input and output channels per invocation
+// Position vec4s a lane of the pointwise weight gradient fetches before its multiply-adds: on a CPU device
+// each fetch spills the accumulators, so several steps per round trip (docs/convolution.md).
+constexpr int kPointwiseGradStepsCpu = 4, kPointwiseGradStepsGpu = 1;
 
 // Register blocks by device class, chosen from the conv-blocking sweep on each (docs/convolution.md). A
 // CPU device runs a few invocations per core, so long pixel rows win for the direct pass; a GPU needs
@@ -306,7 +309,9 @@ void pointwiseWeightGrad(Stream& stream, const Tensor& x, const Tensor& g, const
     float inputSlope;
   } push{i32(channels), i32(outChannels), i32(planeVec4s), i32(chunkVec4s), i32(inBlocks), inputSlope};
   const Kernel& kernel = stream.kernel("nn/conv_pointwise_weight_grad", {workgroup, 1, 1},
-                                       {inChannelsPerLane, outChannelsPerLane, inputSlope != 1.0f ? 1 : 0});
+                                       {inChannelsPerLane, outChannelsPerLane, inputSlope != 1.0f ? 1 : 0,
+                                        device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kPointwiseGradStepsCpu
+                                                                                   : kPointwiseGradStepsGpu});
   stream.dispatch(kernel, {asVec4(x), asVec4(g), partial}, push,
                   {static_cast<uint32_t>(chunks), static_cast<uint32_t>(pairs), static_cast<uint32_t>(batch)});
   if (slots > 1) sumPartials(stream, partial, slots, dw);

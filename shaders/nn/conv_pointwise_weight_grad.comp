@@ -15,13 +15,16 @@
 //
 // Blocking: one invocation owns IN_CHANNELS input and OUT_CHANNELS output channels,
 // IN_CHANNELS*OUT_CHANNELS vec4 accumulators. Per position vec4 it fetches IN_CHANNELS + OUT_CHANNELS
-// vec4s and does IN_CHANNELS*OUT_CHANNELS vec4 multiply-adds. Workgroup x is the chunk, y the
+// vec4s and does IN_CHANNELS*OUT_CHANNELS vec4 multiply-adds. It fetches STEPS of its position vec4s
+// before their multiply-adds, each accumulator then taking STEPS in one run (the same sums in the same
+// order); a tail of fewer goes one by one. Workgroup x is the chunk, y the
 // channel-block pair (input block fastest), z the batch item. Channels past C or K read channel C-1 or
 // K-1 again and are not written.
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int IN_CHANNELS = 4;
 layout(constant_id = 4) const int OUT_CHANNELS = 4;
 layout(constant_id = 5) const bool INPUT_ACTIVATION = false;
+layout(constant_id = 6) const int STEPS = 1;
 
 layout(binding = 0) uniform samplerBuffer x4;
 layout(binding = 1) uniform samplerBuffer g4;
@@ -34,6 +37,12 @@ layout(push_constant) uniform Push {
   int inBlocks;     // ceil(C / IN_CHANNELS)
   float slope;      // negative slope of f
 };
+
+// f(x) at vec4 index i of x.
+vec4 inputAt(int i) {
+  const vec4 v = texelFetch(x4, i);
+  return INPUT_ACTIVATION ? mix(slope * v, v, greaterThan(v, vec4(0.0))) : v;
+}
 
 void main() {
   const int chunk = int(gl_WorkGroupID.x);
@@ -52,12 +61,24 @@ void main() {
 
   const int step = int(gl_WorkGroupSize.x);
   const int end = min((chunk + 1) * chunkVec4s, planeVec4s);
-  for (int p = chunk * chunkVec4s + int(gl_LocalInvocationID.x); p < end; p += step) {
-    vec4 xv[IN_CHANNELS];
-    for (int i = 0; i < IN_CHANNELS; ++i) {
-      xv[i] = texelFetch(x4, xRow[i] + p);
-      if (INPUT_ACTIVATION) xv[i] = mix(slope * xv[i], xv[i], greaterThan(xv[i], vec4(0.0)));
+  int p = chunk * chunkVec4s + int(gl_LocalInvocationID.x);
+  for (; p + (STEPS - 1) * step < end; p += STEPS * step) {
+    vec4 xv[STEPS][IN_CHANNELS];
+    vec4 gv[STEPS][OUT_CHANNELS];
+    for (int u = 0; u < STEPS; ++u) {
+      for (int i = 0; i < IN_CHANNELS; ++i) xv[u][i] = inputAt(xRow[i] + p + u * step);
+      for (int o = 0; o < OUT_CHANNELS; ++o) gv[u][o] = texelFetch(g4, gRow[o] + p + u * step);
     }
+    for (int i = 0; i < IN_CHANNELS; ++i)
+      for (int o = 0; o < OUT_CHANNELS; ++o) {
+        vec4 sum = acc[i][o];
+        for (int u = 0; u < STEPS; ++u) sum += xv[u][i] * gv[u][o];
+        acc[i][o] = sum;
+      }
+  }
+  for (; p < end; p += step) {
+    vec4 xv[IN_CHANNELS];
+    for (int i = 0; i < IN_CHANNELS; ++i) xv[i] = inputAt(xRow[i] + p);
     vec4 gv[OUT_CHANNELS];
     for (int o = 0; o < OUT_CHANNELS; ++o) gv[o] = texelFetch(g4, gRow[o] + p);
     for (int i = 0; i < IN_CHANNELS; ++i)
