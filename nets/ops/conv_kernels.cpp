@@ -39,12 +39,17 @@ struct DeviceDefaults {
 };
 constexpr DeviceDefaults kCpuDefaults{16, 16, 8, 4, DirectFetch::PerInputChannel};  // lavapipe
 constexpr DeviceDefaults kGpuDefaults{4, 8, 8, 4, DirectFetch::PerKernelRow};      // NVIDIA H100
-// Pointwise pass: position vec4s and output channels per invocation.
+// Pointwise pass: position vec4s and output channels per invocation, and input channels fetched before
+// their multiply-adds (on a CPU device each fetch spills the accumulators, docs/convolution.md).
 struct PointwiseDefaults {
-  int positionVec4s, channels;
+  int positionVec4s, channels, inputGroup;
 };
-constexpr PointwiseDefaults kCpuPointwise{4, 8};
-constexpr PointwiseDefaults kGpuPointwise{1, 8};
+constexpr PointwiseDefaults kCpuPointwise{4, 8, 2};
+constexpr PointwiseDefaults kGpuPointwise{1, 8, 1};
+
+const PointwiseDefaults& pointwiseDefaults(const DeviceInfo& device) {
+  return device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuPointwise : kGpuPointwise;
+}
 
 const DeviceDefaults& defaultsFor(const DeviceInfo& device) {
   return device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuDefaults : kGpuDefaults;
@@ -248,7 +253,7 @@ bool isPointwise(const ConvGeometry& g) {
 
 PointwiseBlocking pointwiseBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t outChannels) {
   requireBlocking(requested);
-  const PointwiseDefaults& d = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuPointwise : kGpuPointwise;
+  const PointwiseDefaults& d = pointwiseDefaults(device);
   const int positionVec4s = requested.pixels != 0 ? (requested.pixels + 3) / 4 : d.positionVec4s;
   const int channels = requested.channelVec4s != 0 ? 4 * requested.channelVec4s : d.channels;
   return {positionVec4s, outChannels <= channels ? static_cast<int>(outChannels) : channels};
@@ -276,7 +281,8 @@ void pointwise(Stream& stream, const Tensor& x, const Tensor& weights, int64_t r
   const bool gates = terms.gate != nullptr && terms.gateSlope != 1.0f;
   const Kernel& kernel = stream.kernel("nn/conv_pointwise", {kPointwiseWorkgroup, 1, 1},
                                        {blocking.positionVec4s, blocking.channels, bias != nullptr ? 1 : 0,
-                                        inputSlope != 1.0f ? 1 : 0, gates ? 1 : 0, terms.addend != nullptr ? 1 : 0});
+                                        inputSlope != 1.0f ? 1 : 0, gates ? 1 : 0, terms.addend != nullptr ? 1 : 0,
+                                        pointwiseDefaults(stream.context().info()).inputGroup});
   const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(weights);
   const Arg gateArg = gates ? asVec4(*terms.gate) : asVec4(weights);
   const Arg addendArg = terms.addend != nullptr ? asVec4(*terms.addend) : asVec4(weights);

@@ -17,7 +17,9 @@
 //
 // Blocking: one invocation computes POSITION_VEC4S vec4s of positions for CHANNELS output channels. Per
 // input channel it fetches POSITION_VEC4S input vec4s and ceil(CHANNELS/4) weight vec4s and does
-// CHANNELS*POSITION_VEC4S vec4 multiply-adds. Lanes run along the position blocks (workgroup y);
+// CHANNELS*POSITION_VEC4S vec4 multiply-adds. It fetches INPUT_GROUP input channels before their
+// multiply-adds, each accumulator then taking INPUT_GROUP in one run (the same sums in the same order);
+// the channels past the last whole group go one by one. Lanes run along the position blocks (workgroup y);
 // workgroup x is the channel block, so the blocks of one tile run back to back and find its inputs in
 // cache; workgroup z is the batch item. Channels k >= K and positions past P are not written.
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
@@ -27,6 +29,7 @@ layout(constant_id = 5) const bool HAS_BIAS = false;
 layout(constant_id = 6) const bool INPUT_ACTIVATION = false;
 layout(constant_id = 7) const bool GATE = false;
 layout(constant_id = 8) const bool ADDEND = false;
+layout(constant_id = 9) const int INPUT_GROUP = 1;
 
 const int CHANNEL_VEC4S = (CHANNELS + 3) / 4;
 
@@ -44,6 +47,15 @@ layout(push_constant) uniform Push {
   float inputSlope;
   float gateSlope;
 };
+
+// f(x) at vec4 index i of x.
+vec4 inputAt(int i) {
+  const vec4 v = texelFetch(x4, i);
+  return INPUT_ACTIVATION ? mix(inputSlope * v, v, greaterThan(v, vec4(0.0))) : v;
+}
+
+// Weight vec4 q of the block from output channel k0 in the row from vec4 w; zero past the output channels.
+vec4 weightAt(int w, int k0, int q) { return k0 + 4 * q < outChannels ? texelFetch(wp, w + q) : vec4(0.0); }
 
 void main() {
   const int first = int(gl_WorkGroupID.y * gl_WorkGroupSize.x + gl_LocalInvocationID.x) * POSITION_VEC4S;
@@ -64,14 +76,26 @@ void main() {
 
   int source = n * channels * planeVec4s;
   int w = k0 / 4;
-  for (int c = 0; c < channels; ++c, source += planeVec4s, w += weightRow) {
-    vec4 xv[POSITION_VEC4S];
-    for (int v = 0; v < POSITION_VEC4S; ++v) {
-      xv[v] = texelFetch(x4, source + at[v]);
-      if (INPUT_ACTIVATION) xv[v] = mix(inputSlope * xv[v], xv[v], greaterThan(xv[v], vec4(0.0)));
+  int c = 0;
+  for (; c + INPUT_GROUP <= channels; c += INPUT_GROUP, source += INPUT_GROUP * planeVec4s, w += INPUT_GROUP * weightRow) {
+    vec4 xv[INPUT_GROUP][POSITION_VEC4S];
+    vec4 weight[INPUT_GROUP][CHANNEL_VEC4S];
+    for (int g = 0; g < INPUT_GROUP; ++g) {
+      for (int v = 0; v < POSITION_VEC4S; ++v) xv[g][v] = inputAt(source + g * planeVec4s + at[v]);
+      for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[g][q] = weightAt(w + g * weightRow, k0, q);
     }
+    for (int k = 0; k < CHANNELS; ++k)
+      for (int v = 0; v < POSITION_VEC4S; ++v) {
+        vec4 sum = acc[k][v];
+        for (int g = 0; g < INPUT_GROUP; ++g) sum += weight[g][k / 4][k % 4] * xv[g][v];
+        acc[k][v] = sum;
+      }
+  }
+  for (; c < channels; ++c, source += planeVec4s, w += weightRow) {
+    vec4 xv[POSITION_VEC4S];
+    for (int v = 0; v < POSITION_VEC4S; ++v) xv[v] = inputAt(source + at[v]);
     vec4 weight[CHANNEL_VEC4S];
-    for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[q] = k0 + 4 * q < outChannels ? texelFetch(wp, w + q) : vec4(0.0);
+    for (int q = 0; q < CHANNEL_VEC4S; ++q) weight[q] = weightAt(w, k0, q);
     for (int k = 0; k < CHANNELS; ++k)
       for (int v = 0; v < POSITION_VEC4S; ++v) acc[k][v] += weight[k / 4][k % 4] * xv[v];
   }
