@@ -23,11 +23,14 @@ std::string slurp(const std::filesystem::path& path) {
 }  // namespace
 
 CommandResult runSmokesvd(const std::string& arguments, const std::string& environment) {
+  return runCommand(environment + " " + SMOKESVD_SMOKESVD_BINARY + " " + arguments);
+}
+
+CommandResult runCommand(const std::string& shellCommand) {
   const io::TemporaryFolder directory("cli");
   const auto out = directory / "stdout";
   const auto err = directory / "stderr";
-  const std::string command = environment + " " + SMOKESVD_SMOKESVD_BINARY + " " + arguments + " >" + out.string() +
-                              " 2>" + err.string() + " </dev/null";
+  const std::string command = shellCommand + " >" + out.string() + " 2>" + err.string() + " </dev/null";
   const int status = std::system(command.c_str());
   if (status == -1) throw std::runtime_error("could not run: " + command);
   CommandResult result;

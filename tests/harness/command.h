@@ -1,4 +1,4 @@
-// Runs the `smokesvd` binary as a user would, capturing exit status, stdout and stderr.
+// Runs the `smokesvd` binary as a user would (or any shell command), capturing exit status, stdout and stderr.
 #pragma once
 
 #include <string>
@@ -14,6 +14,9 @@ struct CommandResult {
 // `arguments` are appended to the smokesvd binary's path; `environment` (e.g. "VK_DRIVER_FILES=/x")
 // is prefixed to the shell command.
 CommandResult runSmokesvd(const std::string& arguments, const std::string& environment = "");
+
+// Runs `command` through the shell with stdin from /dev/null.
+CommandResult runCommand(const std::string& command);
 
 // The number of '\n' in `text`: a one-line error is countLines(err) == 1.
 int countLines(const std::string& text);
