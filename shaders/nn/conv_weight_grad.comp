@@ -9,7 +9,8 @@
 // Blocking: one invocation owns one (c, r) and 4*CHANNEL_VEC4S channels k, i.e. KH*KW*4*CHANNEL_VEC4S
 // accumulators. For each PIXELS consecutive ox it fetches KH*SPAN input values (as vec4s when
 // ALIGNED_ROWS) and PIXELS*CHANNEL_VEC4S gradient vec4s, and does KH*KW*PIXELS*4*CHANNEL_VEC4S
-// multiply-adds. Lanes run along (c, r); workgroup y is the channel block, z the chunk. Channels
+// multiply-adds, each accumulator its PIXELS in one run (one trip through memory per fetch batch where
+// the accumulators spill, as on lavapipe). Lanes run along (c, r); workgroup y is the channel block, z the chunk. Channels
 // k >= K are not written.
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int KD = 1;
