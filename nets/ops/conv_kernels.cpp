@@ -47,10 +47,6 @@ struct PointwiseDefaults {
 constexpr PointwiseDefaults kCpuPointwise{4, 8, 2};
 constexpr PointwiseDefaults kGpuPointwise{1, 8, 1};
 
-const PointwiseDefaults& pointwiseDefaults(const DeviceInfo& device) {
-  return device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuPointwise : kGpuPointwise;
-}
-
 const DeviceDefaults& defaultsFor(const DeviceInfo& device) {
   return device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuDefaults : kGpuDefaults;
 }
@@ -253,10 +249,10 @@ bool isPointwise(const ConvGeometry& g) {
 
 PointwiseBlocking pointwiseBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t outChannels) {
   requireBlocking(requested);
-  const PointwiseDefaults& d = pointwiseDefaults(device);
+  const PointwiseDefaults& d = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuPointwise : kGpuPointwise;
   const int positionVec4s = requested.pixels != 0 ? (requested.pixels + 3) / 4 : d.positionVec4s;
   const int channels = requested.channelVec4s != 0 ? 4 * requested.channelVec4s : d.channels;
-  return {positionVec4s, outChannels <= channels ? static_cast<int>(outChannels) : channels};
+  return {positionVec4s, outChannels <= channels ? static_cast<int>(outChannels) : channels, d.inputGroup};
 }
 
 int64_t pointwisePaddedK(const PointwiseBlocking& blocking, int64_t outChannels) {
@@ -282,7 +278,7 @@ void pointwise(Stream& stream, const Tensor& x, const Tensor& weights, int64_t r
   const Kernel& kernel = stream.kernel("nn/conv_pointwise", {kPointwiseWorkgroup, 1, 1},
                                        {blocking.positionVec4s, blocking.channels, bias != nullptr ? 1 : 0,
                                         inputSlope != 1.0f ? 1 : 0, gates ? 1 : 0, terms.addend != nullptr ? 1 : 0,
-                                        pointwiseDefaults(stream.context().info()).inputGroup});
+                                        blocking.inputGroup});
   const Arg biasArg = bias != nullptr ? asVec4(*bias) : asVec4(weights);
   const Arg gateArg = gates ? asVec4(*terms.gate) : asVec4(weights);
   const Arg addendArg = terms.addend != nullptr ? asVec4(*terms.addend) : asVec4(weights);

@@ -79,7 +79,8 @@ bool isPointwise(const ConvGeometry& g);
 // `requested` is read as pixels -> positions (rounded up to vec4s), channelVec4s -> 4 * channels.
 struct PointwiseBlocking {
   int positionVec4s = 0;
-  int channels = 0;  // a multiple of 4, or every output channel in one block
+  int channels = 0;    // a multiple of 4, or every output channel in one block
+  int inputGroup = 1;  // input channels fetched before their multiply-adds (the device's default)
 };
 PointwiseBlocking pointwiseBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t outChannels);
 // y [N, K, P] = bias + wp^T x for x [N, C, P]; wp [C, rowK]: packed by packWeights with rowK =
