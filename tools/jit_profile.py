@@ -73,12 +73,20 @@ def executable_anonymous_mappings(pid):
 
 
 def disassemble(pid, ranges, path):
-    """Writes gdb's disassembly of the ranges to path (only the instructions inside them: gdb reads on
-    into a readable neighbour)."""
+    """Writes gdb's disassembly of the ranges to path. Each range is disassembled on its own, and one that gdb
+    cannot read is skipped: in a gdb command file the first error ends the file, which would drop every
+    mapping after it."""
+    listing = ", ".join(f"({start:#x}, {end:#x})" for start, end in ranges)
     commands = ["set pagination off", f"set logging file {path}", "set logging overwrite on",
-                "set logging redirect on", "set logging enabled on"]
-    commands += [f"x/{end - start}i {start:#x}" for start, end in ranges]
-    commands += ["set logging enabled off", "detach", "quit"]
+                "set logging redirect on", "set logging enabled on",
+                "python",
+                f"for start, end in [{listing}]:",
+                "    try:",
+                "        gdb.execute(f'disassemble {start:#x},{end:#x}')",
+                "    except gdb.error:",
+                "        pass",
+                "end",
+                "set logging enabled off", "detach", "quit"]
     script = path + ".gdb"
     with open(script, "w") as f:
         f.write("\n".join(commands) + "\n")
@@ -87,7 +95,7 @@ def disassemble(pid, ranges, path):
     os.remove(script)
     with open(path) as f:
         lines = f.readlines()
-    seen = set()  # gdb reads on from one mapping into the next: each address once
+    seen = set()
     with open(path, "w") as f:
         for line in lines:
             m = INSTRUCTION.match(line)
