@@ -39,12 +39,13 @@ struct DeviceDefaults {
 };
 constexpr DeviceDefaults kCpuDefaults{16, 16, 8, 4, DirectFetch::PerInputChannel};  // lavapipe
 constexpr DeviceDefaults kGpuDefaults{4, 8, 8, 4, DirectFetch::PerKernelRow};      // NVIDIA H100
-// Pointwise pass: position vec4s and output channels per invocation, and input channels fetched before
-// their multiply-adds (on a CPU device each fetch spills the accumulators, docs/convolution.md).
+// Pointwise pass: position vec4s and at most this many output channels per invocation (the fewest blocks,
+// balanced: on a CPU 12 channels one block of 12, 48 four of 12), and input channels fetched before their
+// multiply-adds (on a CPU device each fetch spills the accumulators, docs/convolution.md).
 struct PointwiseDefaults {
   int positionVec4s, channels, inputGroup;
 };
-constexpr PointwiseDefaults kCpuPointwise{4, 8, 2};
+constexpr PointwiseDefaults kCpuPointwise{4, 12, 2};
 constexpr PointwiseDefaults kGpuPointwise{1, 8, 1};
 
 const DeviceDefaults& defaultsFor(const DeviceInfo& device) {
@@ -251,7 +252,9 @@ PointwiseBlocking pointwiseBlocking(const DeviceInfo& device, ConvBlocking reque
   requireBlocking(requested);
   const PointwiseDefaults& d = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuPointwise : kGpuPointwise;
   const int positionVec4s = requested.pixels != 0 ? (requested.pixels + 3) / 4 : d.positionVec4s;
-  const int channels = requested.channelVec4s != 0 ? 4 * requested.channelVec4s : d.channels;
+  const int filled = static_cast<int>((outChannels + 3) / 4);  // vec4s the output channels fill
+  const int blocks = (filled + d.channels / 4 - 1) / (d.channels / 4);
+  const int channels = requested.channelVec4s != 0 ? 4 * requested.channelVec4s : 4 * ((filled + blocks - 1) / blocks);
   return {positionVec4s, outChannels <= channels ? static_cast<int>(outChannels) : channels, d.inputGroup};
 }
 

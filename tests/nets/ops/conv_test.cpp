@@ -266,7 +266,8 @@ TEST_F(ConvTest, TransposedBackwardMatchesFiniteDifferences) {
 // 1^d kernels at stride 1 without padding on D*H*W a multiple of 4 take the pointwise kernels (no padded
 // copy); K below, at and above a block, C odd, tails of position blocks and of weight-gradient segments.
 // The input gradient (and the transposed forward) reads the weights in place when its output channels are a
-// multiple of 4 (12: a block of 8 and one of 4 with a vec4 past the end) and packs them otherwise.
+// multiple of 4 (12 at 4 × 8: a block of 8 and one of 4 with a vec4 past the end; 17 by default: 12 + 5) and
+// packs them otherwise.
 TEST_F(ConvTest, PointwiseForwardEveryBlocking) {
   const std::initializer_list<ops::ConvBlocking> blockings{{}, {1, 1}, {4, 1}, {5, 3}, {8, 4}, {16, 2}};
   for (const Case& c : {Case{{2, 5, 4, 7}, {9, 5, 1, 1}, {1, 0}, true},
