@@ -38,11 +38,11 @@ constexpr int kPointwiseGradStepsCpu = 4, kPointwiseGradStepsGpu = 1;
 // many invocations in flight, so shorter rows win there, while its weight gradient gains from wider
 // channel blocks (fewer invocations per chunk, so the row reduction is split into more chunks).
 struct DeviceDefaults {
-  int directPixels2d, directPixels3d, weightGradPixels, weightGradChannelVec4s;
+  int directPixels2d, directPixels3d, directChannelVec4s2d, weightGradPixels, weightGradChannelVec4s;
   DirectFetch directFetch;
 };
-constexpr DeviceDefaults kCpuDefaults{16, 16, 8, 4, DirectFetch::PerInputChannel};  // lavapipe
-constexpr DeviceDefaults kGpuDefaults{4, 8, 8, 4, DirectFetch::PerKernelRow};      // NVIDIA H100
+constexpr DeviceDefaults kCpuDefaults{16, 16, 2, 8, 4, DirectFetch::PerInputChannel};  // lavapipe
+constexpr DeviceDefaults kGpuDefaults{4, 8, 1, 8, 4, DirectFetch::PerKernelRow};      // NVIDIA H100
 // Pointwise pass: position vec4s and at most this many output channels per invocation (the fewest blocks,
 // balanced: on a CPU 12 channels one block of 12, 48 four of 12), and input channels fetched before their
 // multiply-adds (on a CPU device each fetch spills the accumulators, docs/convolution.md).
@@ -94,12 +94,14 @@ int fitPixels(int pixels, int64_t width) {
 int64_t roundUp(int64_t value, int64_t multiple) { return (value + multiple - 1) / multiple * multiple; }
 
 ConvBlocking directBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t gridWidth,
-                             int64_t kernelDepth) {
+                             int64_t kernelDepth, int64_t outChannels) {
   requireBlocking(requested);
   const DeviceDefaults& d = defaultsFor(device);
   const int defaultPixels = kernelDepth > 1 ? d.directPixels3d : d.directPixels2d;
   const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(defaultPixels, gridWidth);
-  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : 1,
+  // 2D kernels: the fewest balanced blocks of at most the default vec4s (3D kernels: one vec4).
+  const int channelVec4s = kernelDepth > 1 ? 1 : balancedBlock((outChannels + 3) / 4, d.directChannelVec4s2d);
+  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : channelVec4s,
           requested.fetch != DirectFetch::DeviceDefault ? requested.fetch : d.directFetch};
 }
 

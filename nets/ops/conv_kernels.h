@@ -11,7 +11,8 @@ namespace smokesvd::ops::conv {
 
 // Block sizes actually used: the request with every 0 replaced by the default for the shape and the
 // device class (CPU or GPU). Throws Error for a request out of range.
-ConvBlocking directBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth);
+ConvBlocking directBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t gridWidth, int64_t kernelDepth,
+                             int64_t outChannels);
 ConvBlocking weightGradBlocking(const DeviceInfo& device, ConvBlocking requested, int64_t outWidth,
                                 int64_t outChannels);
 int64_t roundUp(int64_t value, int64_t multiple);
