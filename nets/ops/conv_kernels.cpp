@@ -70,9 +70,11 @@ uint32_t groupsFor(int64_t items, uint32_t workgroup) {
 
 // out[i] = sum_j partial[j*n + i]
 void sumPartials(Stream& stream, const Tensor& partial, int64_t parts, const Tensor& out) {
+  const bool vec4s = out.numel() % 4 == 0;
   struct { int32_t n, parts; } push{i32(out.numel()), i32(parts)};
-  stream.dispatchFlat(stream.kernel("nn/conv_sum_partials", kFlatWorkgroup), {partial, out}, push,
-                      static_cast<uint64_t>(out.numel()));
+  stream.dispatchFlat(stream.kernel("nn/conv_sum_partials", kFlatWorkgroup, {vec4s ? 1 : 0}),
+                      {partial, vec4s ? asVec4(partial) : Arg(partial), out}, push,
+                      static_cast<uint64_t>(vec4s ? out.numel() / 4 : out.numel()));
 }
 
 void requireBlocking(const ConvBlocking& requested) {
