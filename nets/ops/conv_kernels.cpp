@@ -157,8 +157,7 @@ Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int6
   Tensor packed(stream.context(), {std::max<int64_t>(vec4s, 1) * 4});
   if (vec4s > 0)
     stream.dispatch(stream.kernel("nn/conv_pack_weights", kGridWorkgroup), {w, packed}, push,
-                    {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(tapCount),
-                     static_cast<uint32_t>(p.inChannels)});
+                    {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(p.inChannels), 1});
   stream.keepDerived(w, key, packed);
   return packed;
 }
