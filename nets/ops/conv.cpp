@@ -63,7 +63,8 @@ void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tenso
              const Tensor& y, ConvBlocking blocking, float inputSlope, const Tensor* addend = nullptr) {
   if (conv::isPointwise(g))
     return pointwise(stream, g, x, w, bias, y, blocking, false, inputSlope, {.addend = addend});
-  const ConvBlocking chosen = conv::directBlocking(stream.context().info(), blocking, g.output[2], g.kernel[0], g.outChannels);
+  const ConvBlocking chosen =
+      conv::directBlocking(stream.context().info(), blocking, g.output[2], g.kernel[0], g.outChannels);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t xBlocks = (g.output[2] + pixels - 1) / pixels;
   const Int3 size{(g.output[0] - 1) * g.stride + g.kernel[0], (g.output[1] - 1) * g.stride + g.kernel[1],
@@ -105,7 +106,8 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
     if (axis == 2)
       for (const conv::Phase& p : phases[axis]) widest = std::max(widest, p.count);
   }
-  const ConvBlocking chosen = conv::directBlocking(stream.context().info(), blocking, widest, g.kernel[0], g.inChannels);
+  const ConvBlocking chosen =
+      conv::directBlocking(stream.context().info(), blocking, widest, g.kernel[0], g.inChannels);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   for (std::size_t axis = 0; axis < 3; ++axis) {
     size[axis] = 1;

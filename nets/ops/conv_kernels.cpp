@@ -60,8 +60,8 @@ int32_t i32(int64_t value) { return static_cast<int32_t>(value); }
 
 // The size of the fewest balanced blocks of at most `most` that cover `count`: 12 by 8 is two blocks of 6.
 int balancedBlock(int64_t count, int most) {
-  const int64_t blocks = (count + most - 1) / most;
-  return static_cast<int>((count + blocks - 1) / blocks);
+  const int64_t blocks = std::max<int64_t>((count + most - 1) / most, 1);
+  return static_cast<int>(std::max<int64_t>((count + blocks - 1) / blocks, 1));
 }
 
 uint32_t groupsFor(int64_t items, uint32_t workgroup) {
@@ -113,9 +113,9 @@ ConvBlocking weightGradBlocking(const DeviceInfo& device, ConvBlocking requested
   const DeviceDefaults& d = defaultsFor(device);
   const int pixels = requested.pixels != 0 ? requested.pixels : fitPixels(d.weightGradPixels, outWidth);
   // The fewest blocks of at most the default vec4s, balanced: 12 channels one block of 3, 24 two of 3.
-  const int filled = static_cast<int>((outChannels + 3) / 4);  // vec4s the output channels fill
-  const int blocks = (filled + d.weightGradChannelVec4s - 1) / d.weightGradChannelVec4s;
-  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : (filled + blocks - 1) / blocks};
+  const int64_t filled = (outChannels + 3) / 4;  // vec4s the output channels fill
+  const int channelVec4s = balancedBlock(filled, d.weightGradChannelVec4s);
+  return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : channelVec4s};
 }
 
 Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, float inputSlope) {
@@ -265,9 +265,9 @@ PointwiseBlocking pointwiseBlocking(const DeviceInfo& device, ConvBlocking reque
   requireBlocking(requested);
   const PointwiseDefaults& d = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuPointwise : kGpuPointwise;
   const int positionVec4s = requested.pixels != 0 ? (requested.pixels + 3) / 4 : d.positionVec4s;
-  const int filled = static_cast<int>((outChannels + 3) / 4);  // vec4s the output channels fill
-  const int blocks = (filled + d.channels / 4 - 1) / (d.channels / 4);
-  const int channels = requested.channelVec4s != 0 ? 4 * requested.channelVec4s : 4 * ((filled + blocks - 1) / blocks);
+  const int64_t filled = (outChannels + 3) / 4;  // vec4s the output channels fill
+  const int channelVec4s = requested.channelVec4s != 0 ? requested.channelVec4s : balancedBlock(filled, d.channels / 4);
+  const int channels = 4 * channelVec4s;
   return {positionVec4s, outChannels <= channels ? static_cast<int>(outChannels) : channels, d.inputGroup};
 }
 
