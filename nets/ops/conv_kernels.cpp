@@ -43,8 +43,8 @@ struct DeviceDefaults {
 };
 constexpr DeviceDefaults kCpuDefaults{16, 16, 2, 8, 4, DirectFetch::PerInputChannel};  // lavapipe
 constexpr DeviceDefaults kGpuDefaults{4, 8, 1, 8, 4, DirectFetch::PerKernelRow};      // NVIDIA H100
-// Pointwise pass: position vec4s and at most this many output channels per invocation (the fewest blocks,
-// balanced: on a CPU 12 channels one block of 12, 48 four of 12), and input channels fetched before their
+// Pointwise pass: position vec4s and at most this many output channels per invocation (evenBlock: on a CPU
+// 12 channels one block of 12, 48 four of 12, 64 eight of 8), and input channels fetched before their
 // multiply-adds (on a CPU device each fetch spills the accumulators, docs/convolution.md).
 struct PointwiseDefaults {
   int positionVec4s, channels, inputGroup;
@@ -62,6 +62,14 @@ int32_t i32(int64_t value) { return static_cast<int32_t>(value); }
 int balancedBlock(int64_t count, int most) {
   const int64_t blocks = std::max<int64_t>((count + most - 1) / most, 1);
   return static_cast<int>(std::max<int64_t>((count + blocks - 1) / blocks, 1));
+}
+
+// The largest block of 2 to `most` that divides `count` evenly, else balancedBlock: a block's idle slots cost as
+// much as its work (64 channels run as 8 blocks of 8 rather than 6 of 12, 48 as 4 of 12).
+int evenBlock(int64_t count, int most) {
+  for (int block = most; block >= 2; --block)
+    if (count % block == 0) return block;
+  return balancedBlock(count, most);
 }
 
 uint32_t groupsFor(int64_t items, uint32_t workgroup) {
@@ -266,7 +274,7 @@ PointwiseBlocking pointwiseBlocking(const DeviceInfo& device, ConvBlocking reque
   const PointwiseDefaults& d = device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? kCpuPointwise : kGpuPointwise;
   const int positionVec4s = requested.pixels != 0 ? (requested.pixels + 3) / 4 : d.positionVec4s;
   const int64_t filled = (outChannels + 3) / 4;  // vec4s the output channels fill
-  const int channelVec4s = requested.channelVec4s != 0 ? requested.channelVec4s : balancedBlock(filled, d.channels / 4);
+  const int channelVec4s = requested.channelVec4s != 0 ? requested.channelVec4s : evenBlock(filled, d.channels / 4);
   const int channels = 4 * channelVec4s;
   return {positionVec4s, outChannels <= channels ? static_cast<int>(outChannels) : channels, d.inputGroup};
 }
