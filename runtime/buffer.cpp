@@ -124,7 +124,18 @@ void Buffer::write(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
                 "when it runs. Upload before the stream first writes the tensor, or reset() the stream first");
   untouched_ = false;
   if (lives.recording != 0) lives.foreign = true;
+  derived_.clear();
   memory_->write(data, bytes, offset);
+}
+
+const Buffer::Derived* Buffer::derived(const std::string& key) const {
+  const auto kept = derived_.find(key);
+  return kept == derived_.end() ? nullptr : &kept->second;
+}
+
+void Buffer::keepDerived(const std::string& key, Derived derived) {
+  if (!constant_) throw Error("keeping a derived buffer with a buffer that is not constant");
+  derived_[key] = std::move(derived);
 }
 
 void Buffer::read(void* data, VkDeviceSize bytes, VkDeviceSize offset) const { memory_->read(data, bytes, offset); }

@@ -15,7 +15,9 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include <vulkan/vulkan.h>
 
@@ -80,15 +82,29 @@ class Buffer {
   VkBufferView view(TexelFormat format) { return memory_->view(format); }
 
   // Throws Error if a recording that is still held reuses this memory for earlier tensors: the write
-  // would reach them too when the recording runs.
+  // would reach them too when the recording runs. Drops what was derived from a constant buffer.
   void write(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
   void read(void* data, VkDeviceSize bytes, VkDeviceSize offset = 0) const;
+
+  // A constant buffer (frozen weights) is written by the host only, never by a stream (Stream throws). What
+  // recorded commands derive from it (a convolution's packed weights) can then be kept with it, under a key,
+  // for every later recording: derived() until the host writes it again.
+  struct Derived {
+    std::vector<int64_t> shape;
+    std::shared_ptr<Buffer> buffer;
+  };
+  void markConstant() { constant_ = true; }
+  bool constant() const { return constant_; }
+  const Derived* derived(const std::string& key) const;
+  void keepDerived(const std::string& key, Derived derived);
 
  private:
   friend class RecordingMemory;
   std::shared_ptr<BufferMemory> memory_;
   uint64_t serial_ = 0;  // from nextSerial() when created; 0 for buffers outside the pool
   bool untouched_ = true;  // neither written by the host nor used by a stream yet
+  bool constant_ = false;
+  std::map<std::string, Derived> derived_;  // constant buffers only
 };
 
 // A process-wide increasing number: buffers and recordings take one when they begin.

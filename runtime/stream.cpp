@@ -141,6 +141,9 @@ void Stream::hold(Buffer& buffer, bool reads, bool writes) {
 }
 
 void Stream::access(const Buffer& buffer, bool reads, bool writes) {
+  if (writes && buffer.constant())
+    throw Error("a recorded command would write a constant tensor (frozen weights, Tensor::markConstant): only the "
+                "host may write it");
   if (writes) ++writesRecorded_[&buffer];
   const VkBuffer handle = buffer.handle();
   const bool readAfterWrite = reads && writtenSinceBarrier_.count(handle);

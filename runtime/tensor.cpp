@@ -63,6 +63,20 @@ Tensor Tensor::reshaped(Shape shape) const {
   return view;
 }
 
+Tensor Tensor::constantDerived(const std::string& key) const {
+  const Buffer::Derived* kept = buffer_->derived(key);
+  if (!kept) return {};
+  Tensor derived;
+  derived.context_ = context_;
+  derived.shape_ = kept->shape;
+  derived.buffer_ = kept->buffer;
+  return derived;
+}
+
+void Tensor::keepConstantDerived(const std::string& key, const Tensor& derived) const {
+  buffer_->keepDerived(key, {derived.shape_, derived.buffer_});
+}
+
 void Tensor::upload(std::span<const float> values) const {
   if (static_cast<int64_t>(values.size()) != numel())
     throw Error("upload to tensor " + toString(shape_) + ": got " + std::to_string(values.size()) +

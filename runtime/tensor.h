@@ -50,6 +50,14 @@ class Tensor {
   void upload(std::span<const float> values) const;  // values.size() must equal numel()
   std::vector<float> download() const;
 
+  // Frozen weights: no stream may write this tensor's buffer any more (Buffer::markConstant), so tensors
+  // derived from it by recorded commands may be kept with it across recordings (a convolution's packed
+  // weights), until the host writes it. constantDerived is undefined where nothing is kept under `key`.
+  void markConstant() const { buffer_->markConstant(); }
+  bool constant() const { return buffer_->constant(); }
+  Tensor constantDerived(const std::string& key) const;
+  void keepConstantDerived(const std::string& key, const Tensor& derived) const;
+
  private:
   Context* context_ = nullptr;
   Shape shape_;

@@ -162,10 +162,26 @@ Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int6
     for (int i = 0; i < 4; ++i) key.append(" ").append(std::to_string(row[i]));
   key.append(" ").append(std::to_string(p.inChannels));
   if (const Tensor kept = stream.derived(w, key); kept.defined()) return kept;
-  Tensor packed(stream.context(), {std::max<int64_t>(vec4s, 1) * 4});
-  if (vec4s > 0)
-    stream.dispatch(stream.kernel("nn/conv_pack_weights", kGridWorkgroup), {w, packed}, push,
-                    {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(p.inChannels), 1});
+  // Constant weights (a frozen network) are packed once, by a stream of their own, and the packing is kept
+  // with them for every later recording: a recording re-submitted (a DDIM step, a training step through a
+  // frozen network) does not pack them again.
+  Tensor packed = w.constant() ? w.constantDerived(key) : Tensor();
+  if (!packed.defined()) {
+    packed = Tensor(stream.context(), {std::max<int64_t>(vec4s, 1) * 4});
+    auto record = [&](Stream& into) {
+      if (vec4s > 0)
+        into.dispatch(into.kernel("nn/conv_pack_weights", kGridWorkgroup), {w, packed}, push,
+                      {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(p.inChannels), 1});
+    };
+    if (w.constant()) {
+      Stream once(stream.context());
+      record(once);
+      once.submit();
+      w.keepConstantDerived(key, packed);
+    } else {
+      record(stream);
+    }
+  }
   stream.keepDerived(w, key, packed);
   return packed;
 }

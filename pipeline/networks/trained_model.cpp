@@ -26,7 +26,10 @@ TrainedModel findTrainedModel(const std::filesystem::path& models, Network netwo
 void loadTrainedWeights(const TrainedModel& model, modules::Module& module) { modules::loadWeights(model.weights, module); }
 
 void freeze(modules::Module& module) {
-  for (const auto& [name, parameter] : module.namedParameters()) parameter->requiresGrad = false;
+  for (const auto& [name, parameter] : module.namedParameters()) {
+    parameter->requiresGrad = false;
+    parameter->value.markConstant();
+  }
 }
 
 }  // namespace smokesvd::networks

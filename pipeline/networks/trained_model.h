@@ -22,7 +22,9 @@ TrainedModel findTrainedModel(const std::filesystem::path& models, Network netwo
 void loadTrainedWeights(const TrainedModel& model, modules::Module& module);
 
 // No parameter of `module` needs a gradient any more: a frozen network that gradients pass through to
-// its inputs (SvDiff's guidance through G_rho and G_u).
+// its inputs (SvDiff's guidance through G_rho and G_u), or that only infers. Its parameters become constant
+// (Tensor::markConstant): only the host may write them again, and what the convolutions derive from them
+// (packed weights) is made once and kept for every later recording.
 void freeze(modules::Module& module);
 
 }  // namespace smokesvd::networks

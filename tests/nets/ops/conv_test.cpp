@@ -387,6 +387,54 @@ TEST_F(ConvTest, PackedWeightsAreReusedUntilTheWeightIsWritten) {
   EXPECT_TRUE(allClose(ys[2], expected, {1e-5, 1e-5}));
 }
 
+// Constant weights (a frozen network, Tensor::markConstant) are packed once, outside the recordings, and every
+// later recording finds the packing: none of its own dispatches packs. A host write packs them again.
+TEST_F(ConvTest, ConstantWeightsArePackedOnceForEveryRecordingUntilTheHostWritesThem) {
+  const Shape xShape{1, 3, 7, 9, 5}, wShape{5, 3, 3, 3, 3};
+  std::vector<float> xValues, wValues;
+  const Tensor x = randomTensor(context(), xShape, 43, -1, 1, &xValues);
+  const Tensor w = randomTensor(context(), wShape, 44, -1, 1, &wValues);
+  const ops::ConvParams params{1, 1};
+  const Shape yShape = ops::convOutputShape(xShape, wShape, params);
+  uint32_t packing = 0;  // dispatches of a recording that packs the weights itself
+  {
+    Stream stream(context());
+    ops::convForward(stream, x, w, nullptr, params, poisonedTensor(context(), yShape));
+    packing = stream.dispatchCount();
+  }
+  w.markConstant();
+  std::vector<double> expected = convReference(toDouble(xValues), xShape, toDouble(wValues), wShape, {}, ConvSpec{1, 1});
+  for (int recording = 0; recording < 2; ++recording) {
+    const Tensor y = poisonedTensor(context(), yShape);
+    Stream stream(context());
+    ops::convForward(stream, x, w, nullptr, params, y);
+    EXPECT_EQ(stream.dispatchCount() + 1, packing) << "recording " << recording;
+    stream.submit();
+    stream.submit();
+    EXPECT_TRUE(allClose(y, expected, {1e-5, 1e-5})) << "recording " << recording;
+  }
+  for (float& v : wValues) v *= -0.5f;
+  w.upload(wValues);
+  expected = convReference(toDouble(xValues), xShape, toDouble(wValues), wShape, {}, ConvSpec{1, 1});
+  const Tensor y = poisonedTensor(context(), yShape);
+  Stream stream(context());
+  ops::convForward(stream, x, w, nullptr, params, y);
+  stream.submit();
+  EXPECT_TRUE(allClose(y, expected, {1e-5, 1e-5})) << "after the host wrote the weights";
+}
+
+TEST_F(ConvTest, ARecordedWriteToConstantWeightsIsRefused) {
+  const Tensor w = randomTensor(context(), {5, 3, 3, 3}, 45, -1, 1);
+  w.markConstant();
+  Stream stream(context());
+  try {
+    ops::scale(stream, w, 2.0f, w);
+    FAIL() << "the write was recorded";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("constant tensor"), std::string::npos) << error.what();
+  }
+}
+
 TEST_F(ConvTest, RejectsMismatchedShapes) {
   Tensor x(context(), {1, 3, 8, 8});
   Tensor w(context(), {4, 2, 3, 3});
