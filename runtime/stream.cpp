@@ -167,6 +167,10 @@ void Stream::dispatch(const Kernel& kernel, std::span<const Arg> args, const voi
       throw Error("kernel '" + name + "': " + std::to_string(groups[axis]) + " workgroups along axis " +
                   std::to_string(axis) + ", the device allows " + std::to_string(info.maxWorkgroupCount[axis]));
   }
+  for (std::size_t i = 0; i < args.size(); ++i)
+    if (bindings[i].writes && args[i].buffer->constant())
+      throw Error("kernel '" + name + "' would write its binding '" + bindings[i].name +
+                  "', a constant tensor (frozen weights, Tensor::markConstant): only the host may write it");
   if (groups[0] == 0 || groups[1] == 0 || groups[2] == 0) return;
   begin();
   useBuffers(args, bindings);

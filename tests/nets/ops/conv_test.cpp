@@ -431,7 +431,9 @@ TEST_F(ConvTest, ARecordedWriteToConstantWeightsIsRefused) {
     ops::scale(stream, w, 2.0f, w);
     FAIL() << "the write was recorded";
   } catch (const Error& error) {
-    EXPECT_NE(std::string(error.what()).find("constant tensor"), std::string::npos) << error.what();
+    const std::string message = error.what();
+    EXPECT_NE(message.find("constant tensor"), std::string::npos) << message;
+    EXPECT_NE(message.find("kernel '"), std::string::npos) << "names the kernel: " << message;
   }
 }
 
