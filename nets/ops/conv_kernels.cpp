@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <optional>
 #include <string>
 
 #include "runtime/context.h"
@@ -168,18 +169,15 @@ Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int6
   Tensor packed = w.constant() ? w.constantDerived(key) : Tensor();
   if (!packed.defined()) {
     packed = Tensor(stream.context(), {std::max<int64_t>(vec4s, 1) * 4});
-    auto record = [&](Stream& into) {
-      if (vec4s > 0)
-        into.dispatch(into.kernel("nn/conv_pack_weights", kGridWorkgroup), {w, packed}, push,
-                      {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(p.inChannels), 1});
-    };
-    if (w.constant()) {
-      Stream once(stream.context());
-      record(once);
-      once.submit();
+    std::optional<Stream> once;
+    if (w.constant()) once.emplace(stream.context());
+    Stream& into = once ? *once : stream;
+    if (vec4s > 0)
+      into.dispatch(into.kernel("nn/conv_pack_weights", kGridWorkgroup), {w, packed}, push,
+                    {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(p.inChannels), 1});
+    if (once) {
+      once->submit();
       w.keepConstantDerived(key, packed);
-    } else {
-      record(stream);
     }
   }
   stream.keepDerived(w, key, packed);
