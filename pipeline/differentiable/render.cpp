@@ -131,32 +131,43 @@ InputDraw densityDraw(Shape shape) { return draw::uniform(std::move(shape), 0.05
 // The scatter kernels add in any order on GPUs (render/atomics.h): gradients agree to float rounding there.
 constexpr double kScatterRepeat = 1e-5;
 
+// Orbit views with the volume's height in pixels run their adjoints by voxel planes on CPU devices
+// (ViewSet::raysInVoxelRows); views of another height scatter with atomics everywhere.
 std::vector<OpExample> renderExamples() {
-  return {{.name = "two orbit views, no light",
+  return {{.name = "two orbit views, one pixel row per voxel row, no light",
            .inputs = {{"density", densityDraw({5, 6, 7})}},
            .attrs = {{"angles", "0,90"}, {"absorption", "0.7"}},
            .repeatTolerance = kScatterRepeat},
           {.name = "one view at 30 degrees, other image size, directional light",
            .inputs = {{"density", densityDraw({4, 5, 6})}},
-           .attrs = {{"angles", "30"}, {"width", "9"}, {"height", "5"}, {"light", "0.3,1,-0.4"}, {"ambient", "0.4"},
+           .attrs = {{"angles", "30"}, {"width", "9"}, {"height", "7"}, {"light", "0.3,1,-0.4"}, {"ambient", "0.4"},
                      {"light_intensity", "0.8"}, {"step", "0.7"}},
            .repeatTolerance = kScatterRepeat},
-          {.name = "light, compare-and-swap scatter",
+          {.name = "light, other image size, compare-and-swap scatter",
            .inputs = {{"density", densityDraw({4, 5, 6})}},
-           .attrs = {{"angles", "-20,60"}, {"light", "-0.5,1,0.5"}, {"light_absorption", "0.5"}},
+           .attrs = {{"angles", "-20,60"}, {"height", "4"}, {"light", "-0.5,1,0.5"}, {"light_absorption", "0.5"}},
            .repeatTolerance = kScatterRepeat,
-           .noFloatAtomics = true}};
+           .noFloatAtomics = true},
+          {.name = "three orbit views, one pixel row per voxel row, directional light",
+           .inputs = {{"density", densityDraw({4, 5, 6})}},
+           .attrs = {{"angles", "-20,60,200"}, {"width", "7"}, {"light", "-0.5,1,0.5"}, {"light_absorption", "0.5"}},
+           .repeatTolerance = kScatterRepeat}};
 }
 
 std::vector<OpExample> liftExamples() {
-  return {{.name = "two orbit views",
+  return {{.name = "two orbit views, one pixel row per voxel row",
            .inputs = {{"images", draw::uniform({2, 1, 5, 7})}},
            .attrs = {{"angles", "0,90"}, {"grid", "4,5,7"}},
            .gradient = {.step = 0.25},
            .repeatTolerance = kScatterRepeat},
+          {.name = "two views of another height",
+           .inputs = {{"images", draw::uniform({2, 1, 3, 7})}},
+           .attrs = {{"angles", "20,110"}, {"grid", "4,5,7"}, {"height", "3"}},
+           .gradient = {.step = 0.25},
+           .repeatTolerance = kScatterRepeat},
           {.name = "three views of another size, compare-and-swap scatter",
-           .inputs = {{"images", draw::uniform({3, 1, 4, 6})}},
-           .attrs = {{"angles", "15,75,135"}, {"grid", "5,4,5"}, {"width", "6"}, {"height", "4"}},
+           .inputs = {{"images", draw::uniform({3, 1, 3, 6})}},
+           .attrs = {{"angles", "15,75,135"}, {"grid", "5,4,5"}, {"width", "6"}, {"height", "3"}},
            .gradient = {.step = 0.25},
            .repeatTolerance = kScatterRepeat,
            .noFloatAtomics = true}};

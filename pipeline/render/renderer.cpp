@@ -1,5 +1,6 @@
 #include "pipeline/render/renderer.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "pipeline/render/atomics.h"
@@ -20,6 +21,27 @@ struct MarchPush {
 struct MarchAdjointPush {
   MarchPush march;
   int32_t shardSize;
+};
+
+struct MarchRowsPush {
+  MarchPush march;
+  int32_t firstView, viewCount;
+};
+
+// march_adjoint_rows: one invocation per voxel plane, a workgroup the width of llvmpipe's vectors.
+constexpr std::array<uint32_t, 3> kPlaneWorkgroup{8, 1, 1};
+
+// What the march's adjoint reads.
+struct MarchInputs {
+  const Tensor& density;
+  const Tensor& shadowOrDensity;  // the light-transmittance volume when lit
+  const ViewSet& views;
+  const RenderSettings& settings;
+  GridSize grid;
+  const Tensor& images;
+  const Tensor& gradImages;
+  Tensor look;
+  bool lit;
 };
 
 struct LightPush {
@@ -137,6 +159,55 @@ void render(Stream& stream, const Tensor& density, const ViewSet& views, const R
   march(stream, density, &shadow, views, settings, images);
 }
 
+namespace {
+
+// The march's adjoint into `direct` (and, lit, `gradShadow`) where every ray runs in a voxel row, on a CPU
+// device: one invocation per voxel plane adds without atomics (march_adjoint_rows.comp), the views split
+// over dispatches so that no invocation passes the loop budget.
+void marchAdjointByPlanes(Stream& stream, const MarchInputs& in, const Tensor& direct, const Tensor& gradShadow) {
+  stream.fillZero(direct);
+  if (in.lit) stream.fillZero(gradShadow);
+  // A ray in a voxel row crosses the box's horizontal section [-1/2, size + 1/2] in at most its diagonal /
+  // step samples.
+  const auto x = static_cast<double>(in.grid.x + 1), z = static_cast<double>(in.grid.z + 1);
+  const auto samples = static_cast<uint64_t>(std::ceil(std::sqrt(x * x + z * z) / in.settings.step)) + 1;
+  const uint64_t perView = static_cast<uint64_t>(in.views.width) * (samples + 1) + 1;
+  const int viewsPerDispatch = static_cast<int>(std::max<uint64_t>(1, kLoopIterationBudget / perView));
+  const Kernel& kernel = stream.kernel("render/march_adjoint_rows", kPlaneWorkgroup, {in.lit ? 1 : 0});
+  const auto groups = static_cast<uint32_t>((in.grid.y + kPlaneWorkgroup[0] - 1) / kPlaneWorkgroup[0]);
+  for (int first = 0; first < in.views.views; first += viewsPerDispatch) {
+    const MarchRowsPush push{marchPush(in.grid, in.views, in.settings), first,
+                             std::min(viewsPerDispatch, in.views.views - first)};
+    stream.dispatch(kernel,
+                    {in.density, in.shadowOrDensity, asVec4(in.views.table), in.images, in.gradImages, direct, gradShadow,
+                     in.look},
+                    push, {groups, 1, 1});
+  }
+}
+
+// The march's adjoint into `direct` (and, lit, `gradShadow`) with float atomics, one invocation per pixel
+// (march_adjoint.glsl), in deterministic shards on CPU devices.
+void marchAdjointScattered(Stream& stream, const MarchInputs& in, const Tensor& direct, const Tensor& gradShadow) {
+  // A ray crosses the box [-1/2, size + 1/2] in at most its diagonal / step samples.
+  const auto x = static_cast<double>(in.grid.x + 1), y = static_cast<double>(in.grid.y + 1),
+             z = static_cast<double>(in.grid.z + 1);
+  const auto samples = static_cast<uint64_t>(std::ceil(std::sqrt(x * x + y * y + z * z) / in.settings.step)) + 1;
+  const uint64_t items = static_cast<uint64_t>(in.images.numel());
+  const int shards = scatterShards(stream.context(), items, samples, kWorkgroup[0]);
+  const MarchAdjointPush push{marchPush(in.grid, in.views, in.settings),
+                              shards > 1 ? static_cast<int32_t>(in.density.numel()) : 0};
+  const Tensor directTarget = scatterTarget(stream, direct, shards);
+  const Tensor gradShadowTarget = in.lit ? scatterTarget(stream, gradShadow, shards) : gradShadow;
+  dispatchScatter(stream, stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {in.lit ? 1 : 0}),
+                  {in.density, in.shadowOrDensity, asVec4(in.views.table), in.images, in.gradImages, directTarget,
+                   gradShadowTarget, in.look},
+                  push, items, shards);
+  sumShards(stream, directTarget, shards, direct);
+  if (in.lit) sumShards(stream, gradShadowTarget, shards, gradShadow);
+}
+
+}  // namespace
+
 void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow, const ViewSet& views,
                     const RenderSettings& settings, const Tensor& images, const Tensor& gradImages,
                     const Tensor& gradDensity) {
@@ -147,36 +218,20 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
   if (gradDensity.numel() != density.numel())
     throw Error("render backward: the density gradient " + toString(gradDensity.shape()) +
                 " must match the density " + toString(density.shape()));
-  // A ray crosses the box [-1/2, size + 1/2] in at most its diagonal / step samples.
-  const auto x = static_cast<double>(grid.x + 1), y = static_cast<double>(grid.y + 1), z = static_cast<double>(grid.z + 1);
-  const auto samples = static_cast<uint64_t>(std::ceil(std::sqrt(x * x + y * y + z * z) / settings.step)) + 1;
-  const uint64_t items = static_cast<uint64_t>(images.numel());
-  const int shards = scatterShards(stream.context(), items, samples, kWorkgroup[0]);
-  const MarchAdjointPush push{marchPush(grid, views, settings),
-                              shards > 1 ? static_cast<int32_t>(density.numel()) : 0};
-  const Tensor look = deviceLook(stream.context(), settings);
-  if (!settings.light) {
-    const Tensor target = scatterTarget(stream, gradDensity, shards);
-    const Tensor unusedShadowGradient(stream.context(), {1});
-    dispatchScatter(stream, stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {0}),
-                    {density, density, asVec4(views.table), images, gradImages, target, unusedShadowGradient, look},
-                    push, items, shards);
-    sumShards(stream, target, shards, gradDensity);
-    return;
-  }
-  const Tensor& shadowVolume = requireShadow(shadow, grid, settings);
-  Tensor direct(stream.context(), grid.volume());
-  Tensor gradShadow(stream.context(), grid.volume());
-  const Tensor directTarget = scatterTarget(stream, direct, shards);
-  const Tensor gradShadowTarget = scatterTarget(stream, gradShadow, shards);
-  const Kernel& kernel = stream.kernel(scatterKernel(stream.context(), "render/march_adjoint"), kWorkgroup, {1});
-  dispatchScatter(stream, kernel,
-                  {density, shadowVolume, asVec4(views.table), images, gradImages, directTarget, gradShadowTarget, look},
-                  push, items, shards);
-  sumShards(stream, directTarget, shards, direct);
-  sumShards(stream, gradShadowTarget, shards, gradShadow);
+  const bool lit = settings.light.has_value();
+  const MarchInputs in{density, lit ? requireShadow(shadow, grid, settings) : density, views, settings, grid, images,
+                       gradImages, deviceLook(stream.context(), settings), lit};
+  // Without a light the density gradient is the march's own; with one the march adds into the direct part
+  // and the light-transmittance gradient, which the light pass's adjoint turns into the density gradient.
+  const Tensor direct = lit ? Tensor(stream.context(), grid.volume()) : gradDensity;
+  const Tensor gradShadow = Tensor(stream.context(), lit ? grid.volume() : Shape{1});
+  if (deterministicScatter(stream.context()) && views.raysInVoxelRows)
+    marchAdjointByPlanes(stream, in, direct, gradShadow);
+  else
+    marchAdjointScattered(stream, in, direct, gradShadow);
+  if (!lit) return;
   stream.dispatchFlat(stream.kernel("render/light_transmittance_adjoint", kWorkgroup),
-                      {shadowVolume, gradShadow, direct, gradDensity, look}, lightPush(grid, *settings.light),
+                      {in.shadowOrDensity, gradShadow, direct, gradDensity, in.look}, lightPush(grid, *settings.light),
                       static_cast<uint64_t>(density.numel()));
 }
 

@@ -1,15 +1,9 @@
-// Exact adjoint of march.comp (one invocation per pixel), given the forward image I and g = dL/dimage.
-// The march is recomputed front to back, so nothing per sample is stored:
-//   R_k = I - sum_{j <= k} T_j a_j S_j                  radiance that reaches the camera from behind sample k
-//   dI/dsigma_k = absorption * step * (T_{k+1} S_k - R_k)
-//   dI/dS_k     = T_k a_k
-// and the sample gradients are scattered with the trilinear weights of p_k (float atomics; a ray in a row of voxel
-// centres reads and scatters four corners per sample, sampling.glsl):
-//   grad_density[corner]       += g * dI/dsigma_k * w_corner        (zero padding)
-//   grad_transmittance[corner] += g * intensity * dI/dS_k * w_corner (clamped lookup; LIGHT only)
-// A gather would need every sample's gradient stored ([views, samples, H, W]), hence the scatter. The
-// invocations stride over the pixels; with shard_size > 0 each workgroup adds into its own copy of the
-// gradients (elements from workgroup * shard_size on), a deterministic sum (pipeline/render/atomics.h).
+// Exact adjoint of march.comp (one invocation per pixel; march_adjoint_ray.glsl has the formulas), its
+// gradients scattered with float atomics, since rays of different pixels add into the same voxels. A gather
+// would need every sample's gradient stored ([views, samples, H, W]), hence the scatter. The invocations
+// stride over the pixels; with shard_size > 0 each workgroup adds into its own copy of the gradients
+// (elements from workgroup * shard_size on), a deterministic sum (pipeline/render/atomics.h).
+// march_adjoint_rows.comp is the atomic-free variant for view sets whose rays all run in rows of voxel centres.
 #include "float_atomic_add.glsl"
 #include "index.glsl"
 #include "sampling.glsl"
@@ -36,7 +30,7 @@ layout(push_constant) uniform Push {
 int shard_base() { return int(gl_WorkGroupID.x) * shard_size; }
 
 // in_row: a ray in a row of voxel centres (sampling.glsl), whose upper corners' weights are 0.
-void scatter_density(ivec3 size, vec3 p, float value, const bool in_row) {
+void add_density(ivec3 size, vec3 p, float value, const bool in_row) {
   ivec3 base;
   vec3 f;
   trilinear_corners(p, base, f);
@@ -48,7 +42,7 @@ void scatter_density(ivec3 size, vec3 p, float value, const bool in_row) {
   }
 }
 
-void scatter_transmittance(ivec3 size, vec3 p, float value) {
+void add_transmittance(ivec3 size, vec3 p, float value) {
   ivec3 base;
   vec3 f;
   trilinear_corners(clamp_to_centres(p, size), base, f);
@@ -60,60 +54,17 @@ void scatter_transmittance(ivec3 size, vec3 p, float value) {
   }
 }
 
-// The march state of one ray and what its gradients are scaled by.
-struct AdjointRay {
-  float g, total, absorption, ambient, intensity;
-  float accumulated, transmittance;
-};
-
-// One sample of the recomputed march: advances the state and gives the sample's density gradient and (LIGHT)
-// transmittance gradient, to be scattered with the sample's own lookup weights.
-void adjoint_sample(inout AdjointRay ray, vec3 p, float sigma, out float density_grad, out float transmittance_grad) {
-  const ivec3 size = ivec3(width, height, depth);
-  const float shadow = LIGHT != 0 ? sample_clamped(light_transmittance, size, p) : 0.0;
-  const float source = ray.ambient + ray.intensity * shadow;
-  const float alpha = 1.0 - exp(-ray.absorption * sigma * step_length);
-  const float emitted = ray.transmittance * alpha;
-  ray.accumulated += emitted * source;
-  const float next = ray.transmittance * (1.0 - alpha);
-  const float behind = ray.total - ray.accumulated;
-  density_grad = ray.g * ray.absorption * step_length * (next * source - behind);
-  transmittance_grad = ray.g * ray.intensity * emitted;
-  ray.transmittance = next;
-}
-
-void adjoint_ray(uint item) {
-  const float g = texelFetch(grad_image, int(item)).x;
-  if (g == 0.0) return;
-  const int column = int(item) % image_width;
-  const int row = (int(item) / image_width) % image_height;
-  const int view = int(item) / (image_width * image_height);
-  const ivec3 size = ivec3(width, height, depth);
-  AdjointRay ray = AdjointRay(g, texelFetch(image, int(item)).x, look_absorption(look), look_ambient(look),
-                              look_intensity(look), 0.0, 1.0);
-
-  vec3 origin, direction;
-  camera_ray(cameras, view, vec2(column, row) + 0.5, origin, direction);
-  const vec2 span = ray_box(origin, direction, vec3(-0.5), vec3(size) + 0.5);
-  float density_grad, transmittance_grad;
-  if (ray_in_voxel_row(origin, direction)) {
-    for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
-      const vec3 p = origin + t * direction;
-      adjoint_sample(ray, p, sample_zero_in_row(density, size, p), density_grad, transmittance_grad);
-      scatter_density(size, p, density_grad, true);
-      if (LIGHT != 0) scatter_transmittance(size, p, transmittance_grad);
-    }
-  } else {
-    for (float t = span.x + 0.5 * step_length; t < span.y; t += step_length) {
-      const vec3 p = origin + t * direction;
-      adjoint_sample(ray, p, sample_zero(density, size, p), density_grad, transmittance_grad);
-      scatter_density(size, p, density_grad, false);
-      if (LIGHT != 0) scatter_transmittance(size, p, transmittance_grad);
-    }
-  }
-}
+#include "march_adjoint_ray.glsl"
 
 void main() {
   const uint pixels = uint(views * image_height * image_width);
-  for (uint item = flat_index(); item < pixels; item += flat_invocations()) adjoint_ray(item);
+  for (uint item = flat_index(); item < pixels; item += flat_invocations()) {
+    AdjointRay ray;
+    vec3 origin, direction;
+    if (!pixel_ray(item, ray, origin, direction)) continue;
+    if (ray_in_voxel_row(origin, direction))
+      march_ray_adjoint(ray, origin, direction, true);
+    else
+      march_ray_adjoint(ray, origin, direction, false);
+  }
 }

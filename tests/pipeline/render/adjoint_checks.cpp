@@ -10,15 +10,26 @@
 #include "tests/pipeline/render/scenes.h"
 
 namespace smokesvd::testing {
+namespace {
 
-void expectRenderBackwardMatchesFiniteDifferences(Context& context, const render::RenderSettings& s) {
+// The views of a check on `grid` at width x height pixels (height = grid.y for CheckCameras::VoxelRows).
+std::vector<Camera> checkCameras(CheckCameras kind, const GridSize& grid, int width, int height) {
+  if (kind == CheckCameras::Mixed) return mixedCameras(grid, width, height);
+  return orbitCameras({0.0, 37.0, 90.0, 151.0, 214.0}, grid, width, height);
+}
+
+}  // namespace
+
+void expectRenderBackwardMatchesFiniteDifferences(Context& context, const render::RenderSettings& s, CheckCameras kind) {
   const GridSize grid{.x = 6, .y = 7, .z = 5};
-  const std::vector<Camera> cameras = mixedCameras(grid, 6, 7);
+  const int width = kind == CheckCameras::Mixed ? 6 : 9;
+  const std::vector<Camera> cameras = checkCameras(kind, grid, width, 7);
   std::vector<float> density, upstream;
   const Tensor volume = randomTensor(context, grid.volume(), 21, 0.0f, 1.5f, &density);
   const render::ViewSet views = render::uploadViews(context, cameras);
-  const Tensor gradImages = randomTensor(context, {views.views, 1, 7, 6}, 22, -1.0f, 1.0f, &upstream);
-  Tensor images(context, {views.views, 1, 7, 6});
+  EXPECT_EQ(views.raysInVoxelRows, kind == CheckCameras::VoxelRows);
+  const Tensor gradImages = randomTensor(context, {views.views, 1, 7, width}, 22, -1.0f, 1.0f, &upstream);
+  Tensor images(context, {views.views, 1, 7, width});
   Tensor shadow(context, grid.volume());
   Tensor gradDensity = poisonedTensor(context, volume.shape());
   Stream stream(context);
@@ -32,11 +43,12 @@ void expectRenderBackwardMatchesFiniteDifferences(Context& context, const render
   EXPECT_TRUE(allClose(gradDensity, expected, {2e-4, 2e-3})) << (s.light ? "lit" : "unlit");
 }
 
-void expectLiftBackwardMatchesFiniteDifferences(Context& context) {
+void expectLiftBackwardMatchesFiniteDifferences(Context& context, CheckCameras kind) {
   const GridSize grid{.x = 9, .y = 7, .z = 5};
-  const int width = 8, height = 6;
-  const std::vector<Camera> cameras = mixedCameras(grid, width, height);
+  const int width = 8, height = kind == CheckCameras::Mixed ? 6 : 7;
+  const std::vector<Camera> cameras = checkCameras(kind, grid, width, height);
   const render::ViewSet views = render::uploadViews(context, cameras);
+  EXPECT_EQ(views.raysInVoxelRows, kind == CheckCameras::VoxelRows);
   std::vector<float> images, upstream;
   randomTensor(context, {views.views, 1, height, width}, 41, -1, 1, &images);
   const Tensor gradLifted =

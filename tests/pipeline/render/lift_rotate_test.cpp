@@ -49,6 +49,11 @@ TEST_F(GpuTest, LiftMatchesReferenceAndTheAdjointIsItsTranspose) {
 
 TEST_F(GpuTest, LiftBackwardMatchesFiniteDifferences) { expectLiftBackwardMatchesFiniteDifferences(context()); }
 
+// Orbit views with one pixel row per voxel row: on CPU devices by voxel planes, without atomics.
+TEST_F(GpuTest, LiftBackwardByVoxelPlanesMatchesFiniteDifferences) {
+  expectLiftBackwardMatchesFiniteDifferences(context(), CheckCameras::VoxelRows);
+}
+
 TEST_F(GpuTest, FrontLiftBroadcastsTheImageAlongDepth) {
   const GridSize grid{.x = 5, .y = 4, .z = 3};
   std::vector<float> image;

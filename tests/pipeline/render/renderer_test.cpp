@@ -45,6 +45,41 @@ TEST_P(RendererTest, BackwardMatchesFiniteDifferences) {
   expectRenderBackwardMatchesFiniteDifferences(context(), settings());
 }
 
+// Orbit views with one pixel row per voxel row: on CPU devices by voxel planes, without atomics.
+TEST_P(RendererTest, BackwardByVoxelPlanesMatchesFiniteDifferences) {
+  expectRenderBackwardMatchesFiniteDifferences(context(), settings(), CheckCameras::VoxelRows);
+}
+
+// The adjoints by voxel planes (views in voxel rows, CPU devices) give the scattered adjoints' gradients
+// (SMOKESVD_FAST_SCATTER=1: one invocation per ray or lifted value, float atomics) up to the order of the
+// additions, on odd sizes with the views at every angle.
+TEST_P(RendererTest, AdjointsByVoxelPlanesMatchTheScatteredOnes) {
+  if (!render::deterministicScatter(context())) GTEST_SKIP() << "the adjoints by voxel planes run on CPU devices";
+  const GridSize grid{.x = 13, .y = 9, .z = 11};
+  const render::ViewSet views = render::uploadViews(context(), orbitCameras(orbitAngles(7), grid, 15, 9));
+  ASSERT_TRUE(views.raysInVoxelRows);
+  const Tensor volume = randomTensor(context(), grid.volume(), 31, 0.0f, 1.5f);
+  const Tensor gradImages = randomTensor(context(), {7, 1, 9, 15}, 32);
+  const Tensor gradLifted = randomTensor(context(), {7, 11, 9, 13}, 33);
+  std::vector<std::vector<float>> grads, imageGrads;
+  for (const bool scattered : {false, true}) {
+    if (scattered) setenv("SMOKESVD_FAST_SCATTER", "1", 1);
+    const Tensor images(context(), gradImages.shape()), shadow(context(), volume.shape());
+    const Tensor grad = poisonedTensor(context(), volume.shape()), gradOfLift = poisonedTensor(context(), gradImages.shape());
+    Stream stream(context());
+    if (settings().light) render::lightTransmittance(stream, volume, settings(), shadow);
+    render::march(stream, volume, settings().light ? &shadow : nullptr, views, settings(), images);
+    render::renderBackward(stream, volume, settings().light ? &shadow : nullptr, views, settings(), images, gradImages, grad);
+    render::liftBackward(stream, gradLifted, views, grid, gradOfLift);
+    stream.submit();
+    unsetenv("SMOKESVD_FAST_SCATTER");
+    grads.push_back(grad.download());
+    imageGrads.push_back(gradOfLift.download());
+  }
+  EXPECT_TRUE(allClose(grads[0], grads[1], volume.shape(), {1e-5, 1e-5}));
+  EXPECT_TRUE(allClose(imageGrads[0], imageGrads[1], gradImages.shape(), {1e-5, 1e-5}));
+}
+
 // One recording with a device look renders, after each upload of another look, exactly what a fresh
 // recording with those settings renders; its backward pass follows the uploaded look too.
 TEST_F(GpuTest, ADeviceLookChangesTheRenderOfOneRecording) {
@@ -111,38 +146,66 @@ TEST_F(GpuTest, RenderAndLiftAdjointsAreDeterministicOnCpuDevices) {
   EXPECT_EQ(imageGradients[0], imageGradients[2]);
 }
 
-// llvmpipe ends the loops of one invocation after 65535 iterations in all: the deterministic scatter
-// must spread rays and lifted values over enough shards. Here one workgroup would run 250,000 march
-// steps (and 82,000 lift values) per invocation; the gradients must equal those of the wide dispatch
-// (one ray or value per invocation) up to the order of the atomic additions.
-TEST_F(GpuTest, DeterministicScatterPassesTheLoopLimitOfCpuDevices) {
+// llvmpipe ends the loops of one invocation after 65535 iterations in all: the deterministic adjoints must
+// spread their work so that no invocation passes it. The scatters spread rays and lifted values over
+// shards: one workgroup would run 250,000 march steps (views of 20 rows, not the volume's 40) and 82,000
+// lift values (views of 8 rows) per invocation. The adjoints by voxel planes (views in voxel rows) split the
+// views over dispatches: one invocation would run 16 views of 24 rays of 700 steps, and 16 views of 64 x 64
+// lift values. The gradients must equal those of the wide dispatch (one ray or value per invocation) up
+// to the order of the additions.
+TEST_F(GpuTest, DeterministicAdjointsPassTheLoopLimitOfCpuDevices) {
   if (!render::deterministicScatter(context())) GTEST_SKIP() << "this device scatters in any order";
-  const GridSize grid{.x = 24, .y = 40, .z = 24};
-  const render::ViewSet views = render::uploadViews(context(), orbitCameras(orbitAngles(16), grid, 24, 40));
+  const GridSize grid{.x = 24, .y = 40, .z = 24}, liftGrid{.x = 64, .y = 80, .z = 64};
   const Tensor volume = randomTensor(context(), grid.volume(), 8, 0.0f, 0.05f);
-  const Tensor gradImages = randomTensor(context(), {16, 1, 40, 24}, 9);
-  const GridSize liftGrid{.x = 64, .y = 80, .z = 64};
-  const render::ViewSet liftViews = render::uploadViews(context(), orbitCameras(orbitAngles(16), liftGrid, 8, 8));
   const Tensor gradLifted = randomTensor(context(), {16, 64, 80, 64}, 10);
   render::RenderSettings s = litSettings();
   s.step = 0.05f;
-  std::vector<std::vector<float>> grads, imageGrads;
-  for (const bool wide : {false, true}) {
-    if (wide) setenv("SMOKESVD_FAST_SCATTER", "1", 1);
-    const Tensor images(context(), gradImages.shape()), shadow(context(), volume.shape());
-    const Tensor grad(context(), volume.shape()), gradOfLift(context(), {16, 1, 8, 8});
-    Stream stream(context());
-    render::lightTransmittance(stream, volume, s, shadow);
-    render::march(stream, volume, &shadow, views, s, images);
-    render::renderBackward(stream, volume, &shadow, views, s, images, gradImages, grad);
-    render::liftBackward(stream, gradLifted, liftViews, liftGrid, gradOfLift);
-    stream.submit();
-    unsetenv("SMOKESVD_FAST_SCATTER");
-    grads.push_back(grad.download());
-    imageGrads.push_back(gradOfLift.download());
+  for (const int rows : {40, 20}) {
+    const render::ViewSet views = render::uploadViews(context(), orbitCameras(orbitAngles(16), grid, 24, rows));
+    const int liftRows = rows == 40 ? 80 : 8;
+    const render::ViewSet liftViews = render::uploadViews(context(), orbitCameras(orbitAngles(16), liftGrid, 64, liftRows));
+    ASSERT_EQ(views.raysInVoxelRows, rows == 40);
+    ASSERT_EQ(liftViews.raysInVoxelRows, rows == 40);
+    const Tensor gradImages = randomTensor(context(), {16, 1, rows, 24}, 9);
+    std::vector<std::vector<float>> grads, imageGrads;
+    for (const bool wide : {false, true}) {
+      if (wide) setenv("SMOKESVD_FAST_SCATTER", "1", 1);
+      const Tensor images(context(), gradImages.shape()), shadow(context(), volume.shape());
+      const Tensor grad(context(), volume.shape()), gradOfLift(context(), {16, 1, liftRows, 64});
+      Stream stream(context());
+      render::lightTransmittance(stream, volume, s, shadow);
+      render::march(stream, volume, &shadow, views, s, images);
+      render::renderBackward(stream, volume, &shadow, views, s, images, gradImages, grad);
+      render::liftBackward(stream, gradLifted, liftViews, liftGrid, gradOfLift);
+      stream.submit();
+      unsetenv("SMOKESVD_FAST_SCATTER");
+      grads.push_back(grad.download());
+      imageGrads.push_back(gradOfLift.download());
+    }
+    EXPECT_TRUE(allClose(grads[0], grads[1], volume.shape(), {1e-5, 1e-4})) << rows << " rows";
+    // Up to 64 x 64 x 80 / (64 x 8) = 640 terms a pixel with 8 rows.
+    EXPECT_TRUE(allClose(imageGrads[0], imageGrads[1], Shape{16, 1, liftRows, 64}, {1e-4, 1e-4})) << rows << " rows";
   }
-  EXPECT_TRUE(allClose(grads[0], grads[1], volume.shape(), {1e-5, 1e-4}));
-  EXPECT_TRUE(allClose(imageGrads[0], imageGrads[1], Shape{16, 1, 8, 8}, {1e-3, 1e-4}));  // 5,000 terms a pixel
+}
+
+// A recording chooses its adjoint kernels by whether the views' rays run in voxel rows, so the cameras
+// rewritten into a view set must keep that.
+TEST_F(GpuTest, RewrittenViewsKeepWhetherTheirRaysRunInVoxelRows) {
+  const GridSize grid{.x = 6, .y = 7, .z = 5};
+  const render::ViewSet rows = render::uploadViews(context(), orbitCameras({0.0, 90.0}, grid, 6, 7));
+  EXPECT_TRUE(rows.raysInVoxelRows);
+  render::rewriteViews(rows, orbitCameras({11.25, 33.75}, grid, 6, 7));
+  const std::vector<Camera> perspective{lookAtCamera(grid, grid.centre() + Vec3{-9.0, 4.0, -13.0}, 6, 7, 0.8),
+                                        orbitCameras({0.0}, grid, 6, 7)[0]};
+  try {
+    render::rewriteViews(rows, perspective);
+    ADD_FAILURE() << "expected an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("rows of voxel centres"), std::string::npos) << e.what();
+  }
+  const render::ViewSet mixed = render::uploadViews(context(), perspective);
+  EXPECT_FALSE(mixed.raysInVoxelRows);
+  EXPECT_THROW(render::rewriteViews(mixed, orbitCameras({0.0, 90.0}, grid, 6, 7)), Error);
 }
 
 INSTANTIATE_TEST_SUITE_P(LightOffOn, RendererTest, ::testing::Bool(),
