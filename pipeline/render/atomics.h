@@ -8,7 +8,8 @@
 // the kernels read n as shard_size, 0 when there is one shard), and sumShards adds the copies in shard
 // order. Training and gradients are then reproducible bit for bit while every core works. GPUs run the
 // kernel wide into the output itself and add in whatever order the atomics land.
-// SMOKESVD_FAST_SCATTER=1 runs it wide everywhere.
+// SMOKESVD_FAST_SCATTER=1 runs it wide everywhere. (On CPU devices, views whose rays all run in voxel rows
+// skip the scatter: their adjoints run by voxel planes, without atomics; ViewSet::raysInVoxelRows.)
 //
 // The number of shards also keeps every invocation under llvmpipe's loop limit (kLoopIterationBudget,
 // runtime/device_info.h): a single striding workgroup passed it on the paper's volumes, and the render
