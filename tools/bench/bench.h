@@ -49,6 +49,9 @@ struct Measurement {
   uint64_t heldBytes = 0;
   uint64_t heldBytesWithoutReuse = 0;
   uint64_t poolPeakBytes = 0;
+  // Network training steps (tools/bench/network_training_benchmarks.cpp): one forward pass of the trained
+  // network alone for one sample, the model card's figure (0 elsewhere); `flops` is the whole step's.
+  double forwardFlops = 0;
   Profile profile;                   // with --profile
   std::string notRun;                // why it was not measured (the device cannot hold it); empty if it was
   double gbPerSecond() const { return bytes > 0 && medianNs > 0 ? bytes / medianNs : 0; }

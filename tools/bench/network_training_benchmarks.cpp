@@ -11,7 +11,8 @@
 // (modules::FlopCounter): every convolution and linear layer it runs, the trained network's and the frozen
 // ones', forward, and each backward pass it records (to the inputs, to the weights); renders, advection,
 // activations and the optimiser are memory-bound and in the time only. The shape column gives the trained
-// network's share (its layers' forward and backward FLOPs, its passes under NoGrad included). A step is
+// network's share (its layers' forward and backward FLOPs, its passes under NoGrad included); a table after
+// the timings gives one forward pass of the trained network alone and the whole step, in GFLOP. A step is
 // long, so each is timed over 1 warm-up and at most 5 runs. Where the device cannot hold a step (a tensor
 // past its buffer limit, memory exhausted) the line says so instead of a time.
 #include <cmath>
@@ -143,6 +144,7 @@ void measureNetwork(BenchContext& b, networks::Network network, const std::strin
     const GridSize grid = preset(presetName).grid;
     const std::string batchAndGrid = "batch " + std::to_string(t.batch) + ", " + std::to_string(grid.x) + "x" +
                                      std::to_string(grid.y) + "x" + std::to_string(grid.z);
+    const double forwardFlops = trainer->forwardFlops();
     const std::vector<std::string> variants = trainer->variants();
     std::vector<bool> measured(variants.size(), false);
     const StepTiming timing(b);
@@ -164,6 +166,7 @@ void measureNetwork(BenchContext& b, networks::Network network, const std::strin
       });
       Measurement& m = b.last();
       m.flops = stepFlops;
+      m.forwardFlops = forwardFlops;
       if (stepFlops > 0) m.shape += ", net " + std::to_string(static_cast<int>(std::lround(100 * trainedFlops / stepFlops))) + "%";
     }
   } catch (const Error& error) {

@@ -94,6 +94,20 @@ void printMemory(const std::vector<std::vector<bench::Measurement>>& groups) {
   }
 }
 
+// The FLOPs of the network training steps: one forward pass of the trained network for one sample, and the
+// whole step (every network it runs, forward and backward, at the step's batch).
+void printNetworkFlops(const std::vector<std::vector<bench::Measurement>>& groups) {
+  bool header = false;
+  for (const std::vector<bench::Measurement>& group : groups) {
+    for (const bench::Measurement& m : group) {
+      if (m.forwardFlops <= 0 || !m.notRun.empty()) continue;
+      if (!header) std::printf("\n%-36s %18s %14s\n", "FLOPs of a recorded step", "forward, 1 sample", "whole step");
+      header = true;
+      std::printf("%-36s %12.4f GFLOP %8.3f GFLOP\n", m.name.c_str(), m.forwardFlops / 1e9, m.flops / 1e9);
+    }
+  }
+}
+
 struct Results {
   std::vector<std::vector<bench::Measurement>> groups;  // one per benchmark, in order
   bench::DeviceReference reference;                     // the best reading of each
@@ -152,6 +166,7 @@ void printJson(const Context& context, const Results& results) {
         for (const bench::DispatchLine& line : m.profile.dispatches)
           entry["slowest_dispatches"].push_back({{"shader", line.shader}, {"ns", line.nanoseconds}, {"detail", line.detail}});
       }
+      if (m.forwardFlops > 0) entry["forward_flops"] = m.forwardFlops;
       if (m.heldBytes > 0) {
         entry["held_bytes"] = m.heldBytes;
         entry["held_bytes_without_reuse"] = m.heldBytesWithoutReuse;
@@ -210,6 +225,7 @@ void addBenchCommand(CLI::App& app, const GlobalOptions& global, Action& action)
       if (args.passes > 1) std::printf("each figure is the best of %d passes\n", args.passes);
       for (const std::vector<bench::Measurement>& group : results.groups) printTable(group, results.reference);
       printMemory(results.groups);
+      printNetworkFlops(results.groups);
       for (const std::vector<bench::Measurement>& group : results.groups) printProfiles(group);
     };
   });

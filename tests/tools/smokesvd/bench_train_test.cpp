@@ -24,7 +24,7 @@ TEST(BenchTrain, ReportsTheMemoryOfTheRecordedStepWithAndWithoutReuse) {
 }
 
 // A network's training-step benchmark times each variant of its trainer's step (here G_u's on true and on
-// G_rho densities) with its memory, and counts the whole step's FLOPs: on true densities G_u's forward and
+// G_rho densities) with its memory, gives the trained network's forward FLOPs, and counts the whole step's: on true densities G_u's forward and
 // backward (under three forwards: its first layer needs no gradient to its input), on G_rho's densities
 // also the frozen fine G_rho's forward, which the shape column's share of the trained network shows.
 TEST(BenchTrain, TimesEachVariantOfANetworksTrainingStep) {
@@ -44,6 +44,7 @@ TEST(BenchTrain, TimesEachVariantOfANetworksTrainingStep) {
     EXPECT_GT(r.at("median_ns").get<double>(), 0) << name;
     EXPECT_GT(r.at("held_bytes").get<double>(), 0) << name;
     EXPECT_GE(r.at("pool_peak_bytes").get<double>(), r.at("held_bytes").get<double>()) << name;
+    EXPECT_NEAR(r.at("forward_flops").get<double>(), forward, 0.0005e9) << name;  // the trained G_u's, one sample
     const double flops = r.at("flops").get<double>();
     const std::string shape = r.at("shape");
     if (name.find(":truth-") != std::string::npos) {
