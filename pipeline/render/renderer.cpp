@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "pipeline/render/atomics.h"
+#include "pipeline/render/corner_quads.h"
 #include "runtime/context.h"
 #include "runtime/error.h"
 
@@ -130,8 +131,8 @@ void lightTransmittance(Stream& stream, const Tensor& density, const RenderSetti
   const GridSize grid = volumeGrid(density, "render density");
   requireShape(shadow, grid.volume(), "the light-transmittance volume");
   stream.dispatchFlat(stream.kernel("render/light_transmittance", kWorkgroup),
-                      {density, shadow, deviceLook(stream.context(), settings)}, lightPush(grid, *settings.light),
-                      static_cast<uint64_t>(density.numel()));
+                      {density, shadow, deviceLook(stream.context(), settings), asVec4(cornerQuads(stream, density))},
+                      lightPush(grid, *settings.light), static_cast<uint64_t>(density.numel()));
 }
 
 void march(Stream& stream, const Tensor& density, const Tensor* shadow, const ViewSet& views,
@@ -231,8 +232,9 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
     marchAdjointScattered(stream, in, direct, gradShadow);
   if (!lit) return;
   stream.dispatchFlat(stream.kernel("render/light_transmittance_adjoint", kWorkgroup),
-                      {in.shadowOrDensity, gradShadow, direct, gradDensity, in.look}, lightPush(grid, *settings.light),
-                      static_cast<uint64_t>(density.numel()));
+                      {asVec4(cornerQuads(stream, in.shadowOrDensity)), asVec4(cornerQuads(stream, gradShadow)), direct,
+                       gradDensity, in.look},
+                      lightPush(grid, *settings.light), static_cast<uint64_t>(density.numel()));
 }
 
 }  // namespace smokesvd::render

@@ -5,7 +5,8 @@
 // v = (x, y, z) voxel, c_v its centre, l the unit direction toward the light (grid coordinates), sigma the
 // density sampled trilinearly with zero padding. Samples stop where they leave the box [-1/2, N + 1/2],
 // beyond which sigma is 0. l and the absorption come from the look buffer (look.glsl). One invocation per voxel; a gather, so the adjoint is a gather too
-// (light_transmittance_adjoint.comp).
+// (light_transmittance_adjoint.comp). The lookups read the density's corner quads (corner_quads.comp): two
+// texels a sample where the stencil lies inside the grid instead of eight.
 #include "index.glsl"
 #include "sampling.glsl"
 #include "look.glsl"
@@ -14,6 +15,7 @@ layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(binding = 0) uniform samplerBuffer density;
 layout(std430, binding = 1) writeonly buffer Transmittance { float transmittance[]; };
 layout(binding = 2) uniform samplerBuffer look;
+layout(binding = 3) uniform samplerBuffer quads;  // the density's corner quads
 layout(push_constant) uniform Push {
   int width, height, depth;
   float step_length;
@@ -32,7 +34,7 @@ void main() {
   for (float j = 0.5;; j += 1.0) {
     const vec3 p = centre + j * toward;
     if (any(lessThanEqual(p, lo)) || any(greaterThanEqual(p, hi))) break;
-    optical += sample_zero(density, size, p);
+    optical += sample_zero_quads(density, quads, size, p);
   }
   transmittance[item] = exp(-absorption * step_length * optical);
 }

@@ -11,8 +11,8 @@
 #include "look.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 
-layout(binding = 0) uniform samplerBuffer transmittance;
-layout(binding = 1) uniform samplerBuffer grad_transmittance;
+layout(binding = 0) uniform samplerBuffer transmittance_quads;       // corner quads (corner_quads.comp) of T_L
+layout(binding = 1) uniform samplerBuffer grad_transmittance_quads;  // and of gT
 layout(binding = 2) uniform samplerBuffer direct;
 layout(std430, binding = 3) writeonly buffer GradDensity { float grad_density[]; };
 layout(binding = 4) uniform samplerBuffer look;
@@ -21,17 +21,19 @@ layout(push_constant) uniform Push {
   float step_length;
 };
 
+// H~(p) / (-absorption * step): the corners' T_L * gT, trilinear, read as corner quads (two texels of each
+// instead of eight scalars; a corner outside the volume is 0 there, adding nothing).
 float sample_h(ivec3 size, vec3 p) {
   ivec3 base;
   vec3 f;
   trilinear_corners(p, base, f);
+  const int i = quad_index(base, size), above = (size.x + 1) * (size.y + 1);
+  const vec4 t[2] = vec4[2](texelFetch(transmittance_quads, i), texelFetch(transmittance_quads, i + above));
+  const vec4 g[2] = vec4[2](texelFetch(grad_transmittance_quads, i), texelFetch(grad_transmittance_quads, i + above));
   float value = 0.0;
   for (int corner = 0; corner < 8; ++corner) {
     const ivec3 offset = ivec3(corner & 1, (corner >> 1) & 1, corner >> 2);
-    const ivec3 v = base + offset;
-    if (!voxel_inside(v, size)) continue;
-    const int index = voxel_index(v, size);
-    value += corner_weight(offset, f) * texelFetch(transmittance, index).x * texelFetch(grad_transmittance, index).x;
+    value += corner_weight(offset, f) * t[offset.z][corner & 3] * g[offset.z][corner & 3];
   }
   return value;
 }

@@ -64,6 +64,23 @@ float sample_zero_at(samplerBuffer volume, int offset, ivec3 size, vec3 p) {
 
 float sample_zero(samplerBuffer volume, ivec3 size, vec3 p) { return sample_zero_at(volume, 0, size, p); }
 
+// The index of the corner quad at base b (corner_quads.comp: the corners of the square at b's height).
+int quad_index(ivec3 b, ivec3 size) { return ((b.z + 1) * (size.y + 1) + b.y + 1) * (size.x + 1) + b.x + 1; }
+
+// sample_zero() reading the stencil's two corner quads where the stencil lies inside the grid (the same
+// values in the same arithmetic: the same result, bit for bit) and the volume's corners elsewhere.
+float sample_zero_quads(samplerBuffer volume, samplerBuffer quads, ivec3 size, vec3 p) {
+  ivec3 base;
+  vec3 f;
+  trilinear_corners(p, base, f);
+  if (all(greaterThanEqual(base, ivec3(0))) && all(lessThan(base, size - 1))) {
+    const int i = quad_index(base, size);
+    const vec4 low = texelFetch(quads, i), high = texelFetch(quads, i + (size.x + 1) * (size.y + 1));
+    return interpolate(f, low.x, low.y, low.z, low.w, high.x, high.y, high.z, high.w);
+  }
+  return corner_sum_zero(volume, 0, size, base, f, false);
+}
+
 // A ray that runs at the height of a row of voxel centres (direction.y = 0, origin.y - 1/2 an integer: every
 // orbit camera whose image rows are the volume's, docs/rendering.md) has f.y = 0 at every sample, so the
 // upper corners' weights are 0 and the lookup reads only the four corners of its own row: the same value

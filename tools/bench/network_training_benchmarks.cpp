@@ -4,8 +4,8 @@
 // preset's built-in config says, each variant the trainer records (lit or unlit look, a guided or an
 // unguided diffusion step, true or G_rho densities) measured on its own.
 //
-// The data are two scenes simulated at the preset into a scratch folder (one for training, one held
-// out), the networks a trainer runs frozen (G_rho for NvRef and SvDiff, G_u for SvDiff's guidance, the
+// The data are three scenes simulated at the preset into a scratch folder (two for training, one unlit and
+// one lit, and one held out), the networks a trainer runs frozen (G_rho for NvRef and SvDiff, G_u for SvDiff's guidance, the
 // fine G_rho for G_u's fine-tuning) are trained one step there first: the step's cost depends on their
 // architectures, not on their weights. FLOPs are the whole step's, counted on its recording
 // (modules::FlopCounter): every convolution and linear layer it runs, the trained network's and the frozen
@@ -43,7 +43,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr int kSceneFrames = 10;
-constexpr int kValidationEvery = 2;  // of the two scenes, the second is held out
+constexpr int kScenes = 3;
+constexpr int kValidationEvery = 3;  // of the three scenes, the third is held out
 constexpr int64_t kProbedSteps = 48;  // variants are looked for among the first and the last steps of a config
 
 networks::NetworkConfig benchConfig(const std::string& presetName, networks::Network network) {
@@ -58,9 +59,18 @@ class PresetScratch {
  public:
   PresetScratch(Context& context, const std::string& presetName) {
     const Preset& scenePreset = preset(presetName);
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < kScenes; ++i) {
       sim::Scene scene = sim::randomScene(7100 + static_cast<uint64_t>(i), scenePreset.grid, kSceneFrames);
       scene.render.enabled = false;
+      // The first training scene unlit, the second lit (as 35 % of simulate's scenes are), so that the
+      // steps of both looks come up among the probed steps.
+      scene.render.lightDirection.reset();
+      if (i == 1) {
+        scene.render.lightDirection = Vec3{0.4, 0.7, -0.6};
+        scene.render.lightIntensity = 0.7;
+        scene.render.ambient = 0.35;
+        scene.render.lightAbsorption = scene.render.absorption;
+      }
       sim::runScene(context, scene, folder_.path() / "data" / ("scene_000" + std::to_string(i)), {.render = false});
     }
     dataset::DatasetOptions options;
