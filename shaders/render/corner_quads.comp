@@ -3,8 +3,8 @@
 // The corners of every trilinear stencil's lower and upper square as one vec4 texel each, so that a lookup
 // reads two texels instead of eight scalars (sampling.glsl, sample_zero_quads):
 //   quads[q(b)] = (v[b], v[b + (1,0,0)], v[b + (0,1,0)], v[b + (1,1,0)])
-// for every base b in [-1, W-1] x [-1, H-1] x [-1, D] (each square a stencil at base b, or the upper square
-// of the stencil at b - (0,0,1), can touch), v = 0 outside the volume,
+// for every b in [-1, W-1] x [-1, H-1] x [-1, D] (every square a stencil can read: a stencil at base b reads
+// the squares at b and b + (0,0,1)), v = 0 outside the volume,
 //   q(b) = ((b.z + 1) (H + 1) + b.y + 1) (W + 1) + b.x + 1,
 // the order of interpolate()'s corners. One invocation per texel.
 #include "index.glsl"
