@@ -20,6 +20,37 @@ struct Scene {
   int width, height;
 };
 
+// The lift's side of an adjoint run: views of `grid`, the upstream gradient of the lifted volumes, and the
+// shape of the image gradient.
+struct LiftCase {
+  const render::ViewSet& views;
+  GridSize grid;
+  const Tensor& gradLifted;
+  Shape imageShape;
+};
+
+struct AdjointGradients {
+  std::vector<float> density, images;  // the render's density gradient, the lift's image gradient
+};
+
+// Renders `volume` through `views` with `s` and runs both adjoints, their outputs poisoned first; with
+// `scattered` under SMOKESVD_FAST_SCATTER=1 (one ray or lifted value per invocation, float atomics).
+AdjointGradients runAdjoints(Context& context, const Tensor& volume, const render::ViewSet& views,
+                             const render::RenderSettings& s, const Tensor& gradImages, const LiftCase& lift,
+                             bool scattered) {
+  if (scattered) setenv("SMOKESVD_FAST_SCATTER", "1", 1);
+  const Tensor images(context, gradImages.shape()), shadow(context, volume.shape());
+  const Tensor grad = poisonedTensor(context, volume.shape()), gradOfLift = poisonedTensor(context, lift.imageShape);
+  Stream stream(context);
+  if (s.light) render::lightTransmittance(stream, volume, s, shadow);
+  render::march(stream, volume, s.light ? &shadow : nullptr, views, s, images);
+  render::renderBackward(stream, volume, s.light ? &shadow : nullptr, views, s, images, gradImages, grad);
+  render::liftBackward(stream, lift.gradLifted, lift.views, lift.grid, gradOfLift);
+  stream.submit();
+  unsetenv("SMOKESVD_FAST_SCATTER");
+  return {grad.download(), gradOfLift.download()};
+}
+
 class RendererTest : public GpuTest, public ::testing::WithParamInterface<bool> {
  protected:
   render::RenderSettings settings() const { return GetParam() ? litSettings() : unlitSettings(); }
@@ -61,23 +92,11 @@ TEST_P(RendererTest, AdjointsByVoxelPlanesMatchTheScatteredOnes) {
   const Tensor volume = randomTensor(context(), grid.volume(), 31, 0.0f, 1.5f);
   const Tensor gradImages = randomTensor(context(), {7, 1, 9, 15}, 32);
   const Tensor gradLifted = randomTensor(context(), {7, 11, 9, 13}, 33);
-  std::vector<std::vector<float>> grads, imageGrads;
-  for (const bool scattered : {false, true}) {
-    if (scattered) setenv("SMOKESVD_FAST_SCATTER", "1", 1);
-    const Tensor images(context(), gradImages.shape()), shadow(context(), volume.shape());
-    const Tensor grad = poisonedTensor(context(), volume.shape()), gradOfLift = poisonedTensor(context(), gradImages.shape());
-    Stream stream(context());
-    if (settings().light) render::lightTransmittance(stream, volume, settings(), shadow);
-    render::march(stream, volume, settings().light ? &shadow : nullptr, views, settings(), images);
-    render::renderBackward(stream, volume, settings().light ? &shadow : nullptr, views, settings(), images, gradImages, grad);
-    render::liftBackward(stream, gradLifted, views, grid, gradOfLift);
-    stream.submit();
-    unsetenv("SMOKESVD_FAST_SCATTER");
-    grads.push_back(grad.download());
-    imageGrads.push_back(gradOfLift.download());
-  }
-  EXPECT_TRUE(allClose(grads[0], grads[1], volume.shape(), {1e-5, 1e-5}));
-  EXPECT_TRUE(allClose(imageGrads[0], imageGrads[1], gradImages.shape(), {1e-5, 1e-5}));
+  const LiftCase lift{views, grid, gradLifted, gradImages.shape()};
+  const AdjointGradients planes = runAdjoints(context(), volume, views, settings(), gradImages, lift, false);
+  const AdjointGradients scattered = runAdjoints(context(), volume, views, settings(), gradImages, lift, true);
+  EXPECT_TRUE(allClose(planes.density, scattered.density, volume.shape(), {1e-5, 1e-5}));
+  EXPECT_TRUE(allClose(planes.images, scattered.images, gradImages.shape(), {1e-5, 1e-5}));
 }
 
 // One recording with a device look renders, after each upload of another look, exactly what a fresh
@@ -126,24 +145,14 @@ TEST_F(GpuTest, RenderAndLiftAdjointsAreDeterministicOnCpuDevices) {
   const Tensor volume = randomTensor(context(), grid.volume(), 5, 0.0f, 1.5f);
   const Tensor gradImages = randomTensor(context(), {views.views, 1, 11, 7}, 6);
   const Tensor gradLifted = randomTensor(context(), {views.views, 9, 11, 7}, 7);
-  std::vector<std::vector<float>> gradients, imageGradients;
-  for (int run = 0; run < 3; ++run) {
-    const render::RenderSettings s = litSettings();
-    const Tensor images(context(), gradImages.shape()), shadow(context(), volume.shape()), grad(context(), volume.shape());
-    const Tensor gradImagesOfLift(context(), gradImages.shape());
-    Stream stream(context());
-    render::lightTransmittance(stream, volume, s, shadow);
-    render::march(stream, volume, &shadow, views, s, images);
-    render::renderBackward(stream, volume, &shadow, views, s, images, gradImages, grad);
-    render::liftBackward(stream, gradLifted, views, grid, gradImagesOfLift);
-    stream.submit();
-    gradients.push_back(grad.download());
-    imageGradients.push_back(gradImagesOfLift.download());
+  std::vector<AdjointGradients> runs;
+  for (int run = 0; run < 3; ++run)
+    runs.push_back(runAdjoints(context(), volume, views, litSettings(), gradImages,
+                               {views, grid, gradLifted, gradImages.shape()}, false));
+  for (int run = 1; run < 3; ++run) {
+    EXPECT_EQ(runs[0].density, runs[static_cast<std::size_t>(run)].density);
+    EXPECT_EQ(runs[0].images, runs[static_cast<std::size_t>(run)].images);
   }
-  EXPECT_EQ(gradients[0], gradients[1]);
-  EXPECT_EQ(gradients[0], gradients[2]);
-  EXPECT_EQ(imageGradients[0], imageGradients[1]);
-  EXPECT_EQ(imageGradients[0], imageGradients[2]);
 }
 
 // llvmpipe ends the loops of one invocation after 65535 iterations in all: the deterministic adjoints must
@@ -167,24 +176,12 @@ TEST_F(GpuTest, DeterministicAdjointsPassTheLoopLimitOfCpuDevices) {
     ASSERT_EQ(views.raysInVoxelRows, rows == 40);
     ASSERT_EQ(liftViews.raysInVoxelRows, rows == 40);
     const Tensor gradImages = randomTensor(context(), {16, 1, rows, 24}, 9);
-    std::vector<std::vector<float>> grads, imageGrads;
-    for (const bool wide : {false, true}) {
-      if (wide) setenv("SMOKESVD_FAST_SCATTER", "1", 1);
-      const Tensor images(context(), gradImages.shape()), shadow(context(), volume.shape());
-      const Tensor grad(context(), volume.shape()), gradOfLift(context(), {16, 1, liftRows, 64});
-      Stream stream(context());
-      render::lightTransmittance(stream, volume, s, shadow);
-      render::march(stream, volume, &shadow, views, s, images);
-      render::renderBackward(stream, volume, &shadow, views, s, images, gradImages, grad);
-      render::liftBackward(stream, gradLifted, liftViews, liftGrid, gradOfLift);
-      stream.submit();
-      unsetenv("SMOKESVD_FAST_SCATTER");
-      grads.push_back(grad.download());
-      imageGrads.push_back(gradOfLift.download());
-    }
-    EXPECT_TRUE(allClose(grads[0], grads[1], volume.shape(), {1e-5, 1e-4})) << rows << " rows";
+    const LiftCase lift{liftViews, liftGrid, gradLifted, {16, 1, liftRows, 64}};
+    const AdjointGradients deterministic = runAdjoints(context(), volume, views, s, gradImages, lift, false);
+    const AdjointGradients wide = runAdjoints(context(), volume, views, s, gradImages, lift, true);
+    EXPECT_TRUE(allClose(deterministic.density, wide.density, volume.shape(), {1e-5, 1e-4})) << rows << " rows";
     // Up to 64 x 64 x 80 / (64 x 8) = 640 terms a pixel with 8 rows.
-    EXPECT_TRUE(allClose(imageGrads[0], imageGrads[1], Shape{16, 1, liftRows, 64}, {1e-4, 1e-4})) << rows << " rows";
+    EXPECT_TRUE(allClose(deterministic.images, wide.images, lift.imageShape, {1e-4, 1e-4})) << rows << " rows";
   }
 }
 
