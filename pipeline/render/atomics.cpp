@@ -39,4 +39,8 @@ void sumShards(Stream& stream, const Tensor& target, int shards, const Tensor& o
   ops::reduceAxes(stream, ops::ReduceMap::Identity, target, nullptr, axes, 1.0f, output);
 }
 
+bool adjointsByPlanes(const Context& context, const ViewSet& views) {
+  return deterministicScatter(context) && views.raysInVoxelRows;
+}
+
 }  // namespace smokesvd::render

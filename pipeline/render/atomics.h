@@ -16,8 +16,11 @@
 // adjoint of 16 views at 112x64 silently lost a third of its gradient.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <string>
 
+#include "pipeline/render/view_set.h"
 #include "runtime/context.h"
 #include "runtime/stream.h"
 
@@ -52,6 +55,26 @@ void dispatchScatter(Stream& stream, const Kernel& kernel, std::initializer_list
     stream.dispatch(kernel, args, push, {static_cast<uint32_t>(shards), 1, 1});
   else
     stream.dispatchFlat(kernel, args, push, items);
+}
+
+// Whether the adjoints of `views` run by voxel planes instead of scattering: on CPU devices
+// (deterministicScatter) where every ray runs in a voxel row (ViewSet::raysInVoxelRows), each voxel plane goes
+// to one invocation that adds without atomics (shaders/render/*_rows.comp).
+bool adjointsByPlanes(const Context& context, const ViewSet& views);
+
+// The workgroup of a kernel by voxel planes: one invocation per plane, the width of llvmpipe's vectors.
+constexpr std::array<uint32_t, 3> kPlaneWorkgroup{8, 1, 1};
+
+// Records a kernel by voxel planes (built with kPlaneWorkgroup) over `planes` planes and views
+// [0, views): as many views a dispatch as keep an invocation under kLoopIterationBudget at
+// `iterationsPerView` loop iterations a view; push(first, count) gives a dispatch's push constants.
+template <typename MakePush>
+void dispatchByPlanes(Stream& stream, const Kernel& kernel, std::initializer_list<Arg> args, int64_t planes,
+                      int views, uint64_t iterationsPerView, MakePush push) {
+  const int perDispatch = static_cast<int>(std::max<uint64_t>(1, kLoopIterationBudget / iterationsPerView));
+  const auto groups = static_cast<uint32_t>((planes + kPlaneWorkgroup[0] - 1) / kPlaneWorkgroup[0]);
+  for (int first = 0; first < views; first += perDispatch)
+    stream.dispatch(kernel, args, push(first, std::min(perDispatch, views - first)), {groups, 1, 1});
 }
 
 }  // namespace smokesvd::render

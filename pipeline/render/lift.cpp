@@ -1,7 +1,5 @@
 #include "pipeline/render/lift.h"
 
-#include <algorithm>
-
 #include "pipeline/render/atomics.h"
 #include "runtime/error.h"
 
@@ -24,9 +22,6 @@ struct LiftRowsPush {
   LiftPush lift;
   int32_t firstView, viewCount;
 };
-
-// lift_adjoint_rows: one invocation per voxel plane, a workgroup the width of llvmpipe's vectors.
-constexpr std::array<uint32_t, 3> kPlaneWorkgroup{8, 1, 1};
 
 LiftPush liftPush(const GridSize& g, const ViewSet& v) {
   return {static_cast<int32_t>(g.x), static_cast<int32_t>(g.y), static_cast<int32_t>(g.z),
@@ -57,18 +52,14 @@ void lift(Stream& stream, const Tensor& images, const ViewSet& views, const Grid
 void liftBackward(Stream& stream, const Tensor& gradLifted, const ViewSet& views, const GridSize& grid,
                   const Tensor& gradImages) {
   checkShapes("lift backward", gradImages, gradLifted, views, grid);
-  if (deterministicScatter(stream.context()) && views.raysInVoxelRows) {
+  if (adjointsByPlanes(stream.context(), views)) {
     // One invocation per voxel plane adds into the pixel rows it projects onto, without atomics
-    // (lift_adjoint_rows.comp); the views split over dispatches so that no invocation passes the loop budget.
+    // (lift_adjoint_rows.comp).
     stream.fillZero(gradImages);
-    const uint64_t perView = static_cast<uint64_t>(grid.z) * (grid.x + 1) + 1;
-    const int viewsPerDispatch = static_cast<int>(std::max<uint64_t>(1, kLoopIterationBudget / perView));
-    const auto groups = static_cast<uint32_t>((grid.y + kPlaneWorkgroup[0] - 1) / kPlaneWorkgroup[0]);
-    for (int first = 0; first < views.views; first += viewsPerDispatch) {
-      const LiftRowsPush push{liftPush(grid, views), first, std::min(viewsPerDispatch, views.views - first)};
-      stream.dispatch(stream.kernel("render/lift_adjoint_rows", kPlaneWorkgroup),
-                      {gradLifted, asVec4(views.table), gradImages}, push, {groups, 1, 1});
-    }
+    dispatchByPlanes(stream, stream.kernel("render/lift_adjoint_rows", kPlaneWorkgroup),
+                     {gradLifted, asVec4(views.table), gradImages}, grid.y, views.views,
+                     static_cast<uint64_t>(grid.z) * (grid.x + 1) + 1,
+                     [&](int first, int count) { return LiftRowsPush{liftPush(grid, views), first, count}; });
     return;
   }
   const uint64_t items = static_cast<uint64_t>(gradLifted.numel());

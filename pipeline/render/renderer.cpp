@@ -1,6 +1,5 @@
 #include "pipeline/render/renderer.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include "pipeline/render/atomics.h"
@@ -28,9 +27,6 @@ struct MarchRowsPush {
   MarchPush march;
   int32_t firstView, viewCount;
 };
-
-// march_adjoint_rows: one invocation per voxel plane, a workgroup the width of llvmpipe's vectors.
-constexpr std::array<uint32_t, 3> kPlaneWorkgroup{8, 1, 1};
 
 // What the march's adjoint reads.
 struct MarchInputs {
@@ -163,8 +159,7 @@ void render(Stream& stream, const Tensor& density, const ViewSet& views, const R
 namespace {
 
 // The march's adjoint into `direct` (and, lit, `gradShadow`) where every ray runs in a voxel row, on a CPU
-// device: one invocation per voxel plane adds without atomics (march_adjoint_rows.comp), the views split
-// over dispatches so that no invocation passes the loop budget.
+// device: one invocation per voxel plane adds without atomics (march_adjoint_rows.comp).
 void marchAdjointByPlanes(Stream& stream, const MarchInputs& in, const Tensor& direct, const Tensor& gradShadow) {
   stream.fillZero(direct);
   if (in.lit) stream.fillZero(gradShadow);
@@ -172,18 +167,11 @@ void marchAdjointByPlanes(Stream& stream, const MarchInputs& in, const Tensor& d
   // step samples.
   const auto x = static_cast<double>(in.grid.x + 1), z = static_cast<double>(in.grid.z + 1);
   const auto samples = static_cast<uint64_t>(std::ceil(std::sqrt(x * x + z * z) / in.settings.step)) + 1;
-  const uint64_t perView = static_cast<uint64_t>(in.views.width) * (samples + 1) + 1;
-  const int viewsPerDispatch = static_cast<int>(std::max<uint64_t>(1, kLoopIterationBudget / perView));
-  const Kernel& kernel = stream.kernel("render/march_adjoint_rows", kPlaneWorkgroup, {in.lit ? 1 : 0});
-  const auto groups = static_cast<uint32_t>((in.grid.y + kPlaneWorkgroup[0] - 1) / kPlaneWorkgroup[0]);
-  for (int first = 0; first < in.views.views; first += viewsPerDispatch) {
-    const MarchRowsPush push{marchPush(in.grid, in.views, in.settings), first,
-                             std::min(viewsPerDispatch, in.views.views - first)};
-    stream.dispatch(kernel,
-                    {in.density, in.shadowOrDensity, asVec4(in.views.table), in.images, in.gradImages, direct, gradShadow,
-                     in.look},
-                    push, {groups, 1, 1});
-  }
+  dispatchByPlanes(stream, stream.kernel("render/march_adjoint_rows", kPlaneWorkgroup, {in.lit ? 1 : 0}),
+                   {in.density, in.shadowOrDensity, asVec4(in.views.table), in.images, in.gradImages, direct, gradShadow,
+                    in.look},
+                   in.grid.y, in.views.views, static_cast<uint64_t>(in.views.width) * (samples + 1) + 1,
+                   [&](int first, int count) { return MarchRowsPush{marchPush(in.grid, in.views, in.settings), first, count}; });
 }
 
 // The march's adjoint into `direct` (and, lit, `gradShadow`) with float atomics, one invocation per pixel
@@ -226,7 +214,7 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
   // and the light-transmittance gradient, which the light pass's adjoint turns into the density gradient.
   const Tensor direct = lit ? Tensor(stream.context(), grid.volume()) : gradDensity;
   const Tensor gradShadow = Tensor(stream.context(), lit ? grid.volume() : Shape{1});
-  if (deterministicScatter(stream.context()) && views.raysInVoxelRows)
+  if (adjointsByPlanes(stream.context(), views))
     marchAdjointByPlanes(stream, in, direct, gradShadow);
   else
     marchAdjointScattered(stream, in, direct, gradShadow);
