@@ -18,4 +18,8 @@ GroupNorm::GroupNorm(Context& context, int groups, int64_t channels, float eps, 
 
 Var GroupNorm::forward(Tape& tape, const Var& x) { return fn::groupNorm(tape, x, weight_, bias_, groups_, eps_); }
 
+Var GroupNorm::forwardThenSilu(Tape& tape, const Var& x) {
+  return fn::groupNormSilu(tape, x, weight_, bias_, groups_, eps_);
+}
+
 }  // namespace smokesvd::modules

@@ -10,6 +10,8 @@ class GroupNorm : public UnaryModule {
  public:
   GroupNorm(Context& context, int groups, int64_t channels, float eps = 1e-5f, bool affine = true);
   Var forward(Tape& tape, const Var& x) override;
+  // F.silu(forward(x)) in one pass (fn::groupNormSilu)
+  Var forwardThenSilu(Tape& tape, const Var& x);
 
  private:
   int groups_;

@@ -26,9 +26,9 @@ ResBlock::ResBlock(Context& context, ResBlockOptions o) {
 Var ResBlock::forward(Tape& tape, const Var& x, const Var& temb) {
   if (tembProj_ && !temb) throw Error("ResBlock: built with a timestep embedding, called without one");
   if (!tembProj_ && temb) throw Error("ResBlock: called with a timestep embedding it was not built for");
-  Var h = conv1_->forward(tape, fn::silu(tape, norm1_->forward(tape, x)));
+  Var h = conv1_->forward(tape, norm1_->forwardThenSilu(tape, x));
   if (tembProj_) h = fn::addChannel(tape, h, tembProj_->forward(tape, fn::silu(tape, temb)));
-  h = conv2_->forward(tape, dropout_->forward(tape, fn::silu(tape, norm2_->forward(tape, h))));
+  h = conv2_->forward(tape, dropout_->forward(tape, norm2_->forwardThenSilu(tape, h)));
   return fn::add(tape, shortcut_ ? shortcut_->forward(tape, x) : x, h);
 }
 

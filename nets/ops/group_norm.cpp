@@ -17,6 +17,7 @@ uint32_t reduceWorkgroup(const Stream& stream) { return stream.context().info().
 
 int32_t chunksOf(int64_t elements) { return static_cast<int32_t>((elements + kChunk - 1) / kChunk); }
 int32_t vec4When(int64_t elements) { return elements % 4 == 0 ? 1 : 0; }
+int32_t siluFlag(NormActivation activation) { return activation == NormActivation::Silu ? 1 : 0; }
 
 void requireShape(const char* name, const Tensor& tensor, const Shape& expected) {
   if (tensor.shape() != expected)
@@ -52,7 +53,7 @@ GroupNormShape groupNormShape(const Shape& shape, int64_t groups) {
 }
 
 void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& beta, int64_t groups,
-                      float eps, const Tensor& y, const Tensor& stats) {
+                      float eps, const Tensor& y, const Tensor& stats, NormActivation activation) {
   const GroupNormShape s = groupNormShape(x.shape(), groups);
   requireShape("gamma", gamma, {s.channels});
   requireShape("beta", beta, {s.channels});
@@ -75,14 +76,17 @@ void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, cons
                       static_cast<uint64_t>(blocks));
 
   const int32_t planeVec4 = vec4When(s.planeSize);
-  stream.dispatch(stream.kernel("nn/group_norm_apply", {reduceWorkgroup(stream), 1, 1}, {planeVec4, kChunk}),
+  stream.dispatch(stream.kernel("nn/group_norm_apply", {reduceWorkgroup(stream), 1, 1},
+                                {planeVec4, kChunk, siluFlag(activation)}),
                   {planeVec4 ? asVec4(x) : Arg(x), gamma, beta, stats, y}, planePush(s), planeGrid(s));
 }
 
-void groupNormBackward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& stats, int64_t groups,
-                       const Tensor& gy, const Tensor& gx, const Tensor& ggamma, const Tensor& gbeta) {
+void groupNormBackward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& beta, const Tensor& stats,
+                       int64_t groups, const Tensor& gy, const Tensor& gx, const Tensor& ggamma, const Tensor& gbeta,
+                       NormActivation activation) {
   const GroupNormShape s = groupNormShape(x.shape(), groups);
   requireShape("gamma", gamma, {s.channels});
+  requireShape("beta", beta, {s.channels});
   requireShape("stats", stats, {s.batch * groups, 2});
   requireShape("gy", gy, x.shape());
   requireShape("gx", gx, x.shape());
@@ -96,10 +100,12 @@ void groupNormBackward(Stream& stream, const Tensor& x, const Tensor& gamma, con
   const int32_t vec4 = vec4When(s.planeSize);
   const Arg xArg = vec4 ? asVec4(x) : Arg(x);
   const Arg gyArg = vec4 ? asVec4(gy) : Arg(gy);
-  struct { int32_t planeSize, chunks, channelsPerGroup; } reducePush{
-      static_cast<int32_t>(s.planeSize), chunks, static_cast<int32_t>(s.channels / groups)};
-  stream.dispatch(stream.kernel("nn/group_norm_backward_reduce", {reduceWorkgroup(stream), 1, 1}, {vec4, kChunk}),
-                  {xArg, gyArg, stats, partial}, reducePush,
+  const int32_t silu = siluFlag(activation);
+  struct { int32_t planeSize, chunks, channelsPerGroup, channels; } reducePush{
+      static_cast<int32_t>(s.planeSize), chunks, static_cast<int32_t>(s.channels / groups),
+      static_cast<int32_t>(s.channels)};
+  stream.dispatch(stream.kernel("nn/group_norm_backward_reduce", {reduceWorkgroup(stream), 1, 1}, {vec4, kChunk, silu}),
+                  {xArg, gyArg, stats, gamma, beta, partial}, reducePush,
                   {static_cast<uint32_t>(chunks), static_cast<uint32_t>(planes), 1});
 
   struct { int32_t batch, channels, groups, chunks; float invGroupSize; } finalizePush{
@@ -109,8 +115,8 @@ void groupNormBackward(Stream& stream, const Tensor& x, const Tensor& gamma, con
                       {partial, gamma, ggamma, gbeta, coef}, finalizePush,
                       static_cast<uint64_t>(std::max(s.channels, s.batch * groups)));
 
-  stream.dispatch(stream.kernel("nn/group_norm_backward_apply", {reduceWorkgroup(stream), 1, 1}, {vec4, kChunk}),
-                  {xArg, gyArg, gamma, stats, coef, gx}, planePush(s), planeGrid(s));
+  stream.dispatch(stream.kernel("nn/group_norm_backward_apply", {reduceWorkgroup(stream), 1, 1}, {vec4, kChunk, silu}),
+                  {xArg, gyArg, gamma, beta, stats, coef, gx}, planePush(s), planeGrid(s));
 }
 
 }  // namespace smokesvd::ops

@@ -18,13 +18,20 @@ struct GroupNormShape {
 // Checks that x is N,C,spatial... (rank >= 3, non-empty, N C <= 65535) and that groups divides C.
 GroupNormShape groupNormShape(const Shape& x, int64_t groups);
 
-// y = (x - mean) / sqrt(var + eps) * gamma[c] + beta[c], gamma and beta [C]; stats ([N * groups, 2]:
-// mean, 1 / sqrt(var + eps)) is written for the backward.
-void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& beta, int64_t groups,
-                      float eps, const Tensor& y, const Tensor& stats);
+// What is applied to the normalised output z before it is written: nothing, or SiLU (z sigmoid(z), the
+// norm-then-SiLU of a DDPM residual block in one pass; its backward recomputes z instead of storing it).
+enum class NormActivation { None, Silu };
 
-// Gradients w.r.t. x, gamma and beta from gy, using the forward's stats.
-void groupNormBackward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& stats, int64_t groups,
-                       const Tensor& gy, const Tensor& gx, const Tensor& ggamma, const Tensor& gbeta);
+// z = (x - mean) / sqrt(var + eps) * gamma[c] + beta[c], gamma and beta [C], y = z or SiLU(z); stats
+// ([N * groups, 2]: mean, 1 / sqrt(var + eps)) is written for the backward.
+void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& beta, int64_t groups,
+                      float eps, const Tensor& y, const Tensor& stats,
+                      NormActivation activation = NormActivation::None);
+
+// Gradients w.r.t. x, gamma and beta from gy, using the forward's stats; `activation` as in the forward
+// (beta is read only to recompute z for SiLU's derivative).
+void groupNormBackward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& beta, const Tensor& stats,
+                       int64_t groups, const Tensor& gy, const Tensor& gx, const Tensor& ggamma, const Tensor& gbeta,
+                       NormActivation activation = NormActivation::None);
 
 }  // namespace smokesvd::ops

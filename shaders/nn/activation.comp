@@ -9,6 +9,7 @@
 // KIND (constant_id 3): 0 relu, 1 leaky relu, 2 silu, 3 sigmoid, 4 tanh. BACKWARD (constant_id 4): 0 or 1.
 // Bindings: x (vec4 texels), gy (vec4 texels, read only when BACKWARD), out (y or gx).
 #include "index.glsl"
+#include "sigmoid.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int KIND = 0;
 layout(constant_id = 4) const int BACKWARD = 0;
@@ -17,17 +18,6 @@ layout(binding = 0) uniform samplerBuffer x4;
 layout(binding = 1) uniform samplerBuffer gy4;
 layout(std430, binding = 2) writeonly buffer Output { vec4 result[]; };
 layout(push_constant) uniform Push { uint n; float slope; };
-
-// Sigmoid s and its complement 1 - s = s(-x), both from e = exp(-|x|) so neither overflows nor loses
-// relative precision in the tails: s = 1 / (1 + e) for x >= 0, e / (1 + e) below.
-vec4 sigmoid(vec4 x, out vec4 complement) {
-  const vec4 e = exp(-abs(x));
-  const vec4 near = 1.0 / (1.0 + e);
-  const vec4 far = e * near;
-  const bvec4 positive = greaterThanEqual(x, vec4(0.0));
-  complement = mix(near, far, positive);
-  return mix(far, near, positive);
-}
 
 // tanh(x) = sign(x) (1 - e) / (1 + e) with e = exp(-2|x|), and 1 - tanh^2 = 4 e / (1 + e)^2. Below
 // |x| = 1/4, where 1 - e cancels, the odd Taylor series to x^9 is accurate to float epsilon.
@@ -44,7 +34,7 @@ vec4 forward(vec4 x) {
   vec4 unused;
   if (KIND == 0) return max(x, 0.0);
   if (KIND == 1) return mix(slope * x, x, greaterThan(x, vec4(0.0)));
-  if (KIND == 2) return x * sigmoid(x, unused);
+  if (KIND == 2) return silu(x);
   if (KIND == 3) return sigmoid(x, unused);
   return stableTanh(x, unused);
 }
@@ -58,9 +48,10 @@ vec4 backward(vec4 x, vec4 gy) {
     stableTanh(x, derivative);
     return gy * derivative;
   }
+  if (KIND == 2) return siluBackward(x, gy);
   vec4 complement;
   const vec4 s = sigmoid(x, complement);
-  return KIND == 2 ? gy * s * (1.0 + x * complement) : gy * s * complement;
+  return gy * s * complement;
 }
 
 void main() {

@@ -22,7 +22,8 @@ Tensor varied(Context& context, const Shape& shape) {
 
 double bytesOf(const Shape& shape, double tensors) { return static_cast<double>(numElements(shape)) * 4.0 * tensors; }
 
-void groupNorm(BenchContext& b, const Shape& shape, int64_t groups) {
+// The norm alone and the norm followed by SiLU in the same pass ("-silu").
+void groupNorm(BenchContext& b, const Shape& shape, int64_t groups, ops::NormActivation activation) {
   Context& context = b.context();
   const Shape c{shape[1]};
   const Tensor x = varied(context, shape);
@@ -31,25 +32,30 @@ void groupNorm(BenchContext& b, const Shape& shape, int64_t groups) {
   Tensor y(context, shape), gx(context, shape), ggamma(context, c), gbeta(context, c);
   Tensor stats(context, {shape[0] * groups, 2});
   const std::string label = toString(shape) + " G=" + std::to_string(groups);
-  const std::string name = "layers/group_norm-" + std::to_string(shape.size() - 2) + "d";
-  b.measure(name + "/forward", label, bytesOf(shape, 2), 0,
-            [&](Stream& s) { ops::groupNormForward(s, x, gamma, beta, groups, 1e-5f, y, stats); });
+  const std::string name = "layers/group_norm-" + std::to_string(shape.size() - 2) + "d" +
+                           (activation == ops::NormActivation::Silu ? "-silu" : "");
+  auto forward = [&](Stream& s) { ops::groupNormForward(s, x, gamma, beta, groups, 1e-5f, y, stats, activation); };
+  auto backward = [&](Stream& s) {
+    ops::groupNormBackward(s, x, gamma, beta, stats, groups, gy, gx, ggamma, gbeta, activation);
+  };
+  b.measure(name + "/forward", label, bytesOf(shape, 2), 0, forward);
   {
     Stream once(context);
-    ops::groupNormForward(once, x, gamma, beta, groups, 1e-5f, y, stats);
+    forward(once);
     once.submit();
   }
-  b.measure(name + "/backward", label, bytesOf(shape, 3), 0,
-            [&](Stream& s) { ops::groupNormBackward(s, x, gamma, stats, groups, gy, gx, ggamma, gbeta); });
+  b.measure(name + "/backward", label, bytesOf(shape, 3), 0, backward);
   b.measure(name + "/forward+backward", label, bytesOf(shape, 5), 0, [&](Stream& s) {
-    ops::groupNormForward(s, x, gamma, beta, groups, 1e-5f, y, stats);
-    ops::groupNormBackward(s, x, gamma, stats, groups, gy, gx, ggamma, gbeta);
+    forward(s);
+    backward(s);
   });
 }
 
 void groupNorms(BenchContext& b) {
-  groupNorm(b, {1, 64, 64, 64}, 8);
-  groupNorm(b, {1, 32, 32, 32, 32}, 8);
+  for (const ops::NormActivation activation : {ops::NormActivation::None, ops::NormActivation::Silu}) {
+    groupNorm(b, {1, 64, 64, 64}, 8, activation);
+    groupNorm(b, {1, 32, 32, 32, 32}, 8, activation);
+  }
 }
 
 void trilinear(BenchContext& b) {

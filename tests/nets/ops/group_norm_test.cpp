@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "nets/functional/activation.h"
 #include "nets/functional/group_norm.h"
 #include "nets/io/npy.h"
 #include "nets/ops/group_norm.h"
@@ -181,13 +182,98 @@ TEST_F(GroupNormTest, BackwardOnLargeShapesMatchesAnalyticGradients) {
     Tensor gbeta = poisonedTensor(context(), c);
     Stream stream(context());
     ops::groupNormForward(stream, x, gamma, Tensor::fromHost(context(), c, in.beta), t.groups, 1e-5f, y, stats);
-    ops::groupNormBackward(stream, x, gamma, stats, t.groups, gy, gx, ggamma, gbeta);
+    ops::groupNormBackward(stream, x, gamma, Tensor::fromHost(context(), c, in.beta), stats, t.groups, gy, gx, ggamma,
+                           gbeta);
     stream.submit();
     const Gradients expected =
         analyticBackward(toDouble(in.x), toDouble(in.gamma), toDouble(g), layoutOf(t.shape, t.groups), 1e-5);
     EXPECT_TRUE(allClose(gx, expected.x, {1e-4, 1e-4}));
     EXPECT_TRUE(allClose(ggamma, expected.gamma, {1e-3, 1e-4}));
     EXPECT_TRUE(allClose(gbeta, expected.beta, {1e-3, 1e-4}));
+  }
+}
+
+// F.silu of the reference, in double
+std::vector<double> referenceSilu(std::span<const double> x, std::span<const double> gamma,
+                                  std::span<const double> beta, const Layout& l, double eps) {
+  std::vector<double> y = reference(x, gamma, beta, l, eps);
+  for (double& v : y) v = v / (1.0 + std::exp(-v));
+  return y;
+}
+
+TEST_F(GroupNormTest, SiluAfterTheNormMatchesReferenceAndFiniteDifferences) {
+  // odd planes (the scalar path), planes of a multiple of 4 (vec4), several chunks per plane, 2D and 3D;
+  // the norm's outputs spread to +-4 so that SiLU's curved part and both tails are reached
+  for (const Case& t : {Case{{2, 4, 3, 5}, 2}, Case{{1, 4, 3, 2, 4}, 2}, Case{{2, 3, 2, 2}, 3},
+                        Case{{1, 2, 9, 17, 31}, 1}}) {
+    SCOPED_TRACE(toString(t.shape) + " groups " + std::to_string(t.groups));
+    Inputs in = randomInputs(t.shape, 11);
+    for (float& g : in.gamma) g *= 2.5f;
+    const Shape c{t.shape[1]};
+    std::vector<float> g;
+    const float eps = 1e-3f;
+    const Tensor x = Tensor::fromHost(context(), t.shape, in.x);
+    const Tensor gamma = Tensor::fromHost(context(), c, in.gamma);
+    const Tensor beta = Tensor::fromHost(context(), c, in.beta);
+    const Tensor gy = randomTensor(context(), t.shape, 12, -1, 1, &g);
+    Tensor y = poisonedTensor(context(), t.shape);
+    Tensor stats = poisonedTensor(context(), {t.shape[0] * t.groups, 2});
+    Tensor gx = poisonedTensor(context(), t.shape);
+    Tensor ggamma = poisonedTensor(context(), c);
+    Tensor gbeta = poisonedTensor(context(), c);
+    Stream stream(context());
+    ops::groupNormForward(stream, x, gamma, beta, t.groups, eps, y, stats, ops::NormActivation::Silu);
+    ops::groupNormBackward(stream, x, gamma, beta, stats, t.groups, gy, gx, ggamma, gbeta, ops::NormActivation::Silu);
+    stream.submit();
+    const Layout l = layoutOf(t.shape, t.groups);
+    const auto dx = toDouble(in.x), dgamma = toDouble(in.gamma), dbeta = toDouble(in.beta), dg = toDouble(g);
+    EXPECT_TRUE(allClose(y, referenceSilu(dx, dgamma, dbeta, l, eps), {5e-5, 2e-5}));
+    // the norm's gradient of gz = gy SiLU'(z), z the reference norm output
+    std::vector<double> gz = reference(dx, dgamma, dbeta, l, eps);
+    for (std::size_t i = 0; i < gz.size(); ++i) {
+      const double s = 1.0 / (1.0 + std::exp(-gz[i]));
+      gz[i] = dg[i] * s * (1.0 + gz[i] * (1.0 - s));
+    }
+    const Gradients expected = analyticBackward(dx, dgamma, gz, l, eps);
+    EXPECT_TRUE(allClose(gx, expected.x, {2e-4, 1e-4}));
+    EXPECT_TRUE(allClose(ggamma, expected.gamma, {1e-3, 1e-4}));
+    EXPECT_TRUE(allClose(gbeta, expected.beta, {1e-3, 1e-4}));
+    if (numElements(t.shape) > 1000) continue;  // finite differences on the small shapes
+    EXPECT_TRUE(allClose(gx, numericVjp([&](auto p) { return referenceSilu(p, dgamma, dbeta, l, eps); }, dx, dg),
+                         {2e-4, 1e-4}));
+    EXPECT_TRUE(allClose(ggamma, numericVjp([&](auto p) { return referenceSilu(dx, p, dbeta, l, eps); }, dgamma, dg),
+                         {2e-4, 1e-4}));
+    EXPECT_TRUE(allClose(gbeta, numericVjp([&](auto p) { return referenceSilu(dx, dgamma, p, l, eps); }, dbeta, dg),
+                         {2e-4, 1e-4}));
+  }
+}
+
+// The fused norm-then-SiLU gives the norm followed by nn/activation's SiLU: the same bits forward, the
+// gradients to float rounding (the backward recomputes z, and the compiler may contract it differently).
+TEST_F(GroupNormTest, SiluAfterTheNormAgreesWithTheNormThenTheActivation) {
+  for (const Case& t : {Case{{2, 4, 5, 7}, 2}, Case{{1, 8, 4, 6, 8}, 4}}) {
+    SCOPED_TRACE(toString(t.shape));
+    const Inputs in = randomInputs(t.shape, 13, 0.5f, 3.0f);
+    const Shape c{t.shape[1]};
+    const Tensor upstream = randomTensor(context(), t.shape, 14, -1, 1);
+    std::vector<std::vector<float>> results[2];
+    for (const bool fused : {false, true}) {
+      Var x = variable(Tensor::fromHost(context(), t.shape, in.x), true);
+      Var gamma = variable(Tensor::fromHost(context(), c, in.gamma), true);
+      Var beta = variable(Tensor::fromHost(context(), c, in.beta), true);
+      Stream stream(context());
+      Tape tape(stream);
+      const int groups = static_cast<int>(t.groups);
+      Var y = fused ? fn::groupNormSilu(tape, x, gamma, beta, groups) : fn::silu(tape, fn::groupNorm(tape, x, gamma, beta, groups));
+      tape.backward({{y, upstream}});
+      stream.submit();
+      results[fused] = {y->value.download(), x->grad.download(), gamma->grad.download(), beta->grad.download()};
+    }
+    EXPECT_EQ(results[0][0], results[1][0]);
+    for (std::size_t k = 1; k < results[0].size(); ++k)
+      EXPECT_TRUE(allClose(std::span<const float>(results[1][k]), std::span<const float>(results[0][k]),
+                           Shape{static_cast<int64_t>(results[0][k].size())}, {1e-6, 1e-6}))
+          << "gradient " << k;
   }
 }
 
