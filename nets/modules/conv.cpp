@@ -26,6 +26,8 @@ Conv::Conv(Context& context, int dims, int64_t inChannels, int64_t outChannels, 
 
 Var Conv::forward(Tape& tape, const Var& x) { return convolve(tape, x, params_, nullptr); }
 
+Var Conv::forwardPlus(Tape& tape, const Var& x, const Var& addend) { return convolve(tape, x, params_, addend); }
+
 Var Conv::forwardThroughLeakyRelu(Tape& tape, const Var& x, float negativeSlope, const Var& addend) {
   ops::ConvParams params = params_;
   params.inputSlope = negativeSlope;

@@ -21,6 +21,8 @@ class Conv : public UnaryModule {
   // dims: 2 (N,C,H,W) or 3 (N,C,D,H,W).
   Conv(Context& context, int dims, int64_t inChannels, int64_t outChannels, int kernel, ConvOptions options = {});
   Var forward(Tape& tape, const Var& x) override;
+  // addend + forward(x), the sum made as the output is written (a residual connection without a pass of its own).
+  Var forwardPlus(Tape& tape, const Var& x, const Var& addend);
   // forward(leakyRelu(x, negativeSlope)), plus `addend` (a Var of the output's shape; nullptr: none), with the
   // activation and the sum fused into the convolution's kernels (ops::ConvParams::inputSlope,
   // fn::conv3d's addend): no activated copy of x is made or kept and the sum has no pass of its own.

@@ -2,7 +2,6 @@
 
 #include "nets/functional/activation.h"
 #include "nets/functional/broadcast.h"
-#include "nets/functional/elementwise.h"
 #include "runtime/error.h"
 
 namespace smokesvd::modules {
@@ -28,8 +27,8 @@ Var ResBlock::forward(Tape& tape, const Var& x, const Var& temb) {
   if (!tembProj_ && temb) throw Error("ResBlock: called with a timestep embedding it was not built for");
   Var h = conv1_->forward(tape, norm1_->forwardThenSilu(tape, x));
   if (tembProj_) h = fn::addChannel(tape, h, tembProj_->forward(tape, fn::silu(tape, temb)));
-  h = conv2_->forward(tape, dropout_->forward(tape, norm2_->forwardThenSilu(tape, h)));
-  return fn::add(tape, shortcut_ ? shortcut_->forward(tape, x) : x, h);
+  return conv2_->forwardPlus(tape, dropout_->forward(tape, norm2_->forwardThenSilu(tape, h)),
+                             shortcut_ ? shortcut_->forward(tape, x) : x);
 }
 
 }  // namespace smokesvd::modules

@@ -24,6 +24,15 @@ bool registerBenchmark(Benchmark benchmark) { return registry().add(std::move(be
 
 const std::vector<Benchmark>& benchmarks() { return registry().all(); }
 
+LongRunTiming::LongRunTiming(BenchContext& b) : b_(b), given_(b.options()) {
+  b.setOptions({.warmup = std::min(given_.warmup, 1), .runs = std::min(given_.runs, 5), .profile = given_.profile,
+                .slowestDispatches = given_.slowestDispatches});
+}
+
+void addNotRun(BenchContext& b, const std::string& name, const std::string& why) {
+  b.add({.name = name, .shape = "-", .notRun = why});
+}
+
 Tensor filled(Context& context, const Shape& shape, float value) {
   Tensor tensor(context, shape);
   Stream stream(context);

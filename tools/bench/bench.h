@@ -104,6 +104,23 @@ class BenchContext {
   std::vector<Measurement> results_;
 };
 
+// Shorter timing for the duration of a benchmark whose run is long (a training step, a network's forward at
+// the paper preset): 1 warm-up and at most 5 runs.
+class LongRunTiming {
+ public:
+  explicit LongRunTiming(BenchContext& b);
+  ~LongRunTiming() { b_.setOptions(given_); }
+  LongRunTiming(const LongRunTiming&) = delete;
+  LongRunTiming& operator=(const LongRunTiming&) = delete;
+
+ private:
+  BenchContext& b_;
+  BenchOptions given_;
+};
+
+// Adds a measurement the device could not run (a tensor past its buffer limit, memory exhausted), with why.
+void addNotRun(BenchContext& b, const std::string& name, const std::string& why);
+
 struct Benchmark {
   std::string name;  // "group/name"; the FILTER of `smokesvd bench` matches a substring of it
   std::function<void(BenchContext&)> run;

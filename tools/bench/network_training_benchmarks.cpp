@@ -114,30 +114,6 @@ PresetScratch& scratch(Context& context, const std::string& presetName) {
   return *slot;
 }
 
-// Shorter timing for the duration of a benchmark: a training step is long, so 1 warm-up and at most 5 runs.
-class StepTiming {
- public:
-  explicit StepTiming(BenchContext& b) : b_(b), given_(b.options()) {
-    b.setOptions({.warmup = std::min(given_.warmup, 1), .runs = std::min(given_.runs, 5), .profile = given_.profile,
-                  .slowestDispatches = given_.slowestDispatches});
-  }
-  ~StepTiming() { b_.setOptions(given_); }
-  StepTiming(const StepTiming&) = delete;
-  StepTiming& operator=(const StepTiming&) = delete;
-
- private:
-  BenchContext& b_;
-  BenchOptions given_;
-};
-
-void notRun(BenchContext& b, const std::string& name, const std::string& why) {
-  Measurement m;
-  m.name = name;
-  m.shape = "-";
-  m.notRun = why;
-  b.add(std::move(m));
-}
-
 // Every variant of the trainer's step, each after the sample of the first probed step that asks for it.
 void measureNetwork(BenchContext& b, networks::Network network, const std::string& presetName) {
   const std::string base = "train/" + networks::networkName(network) + "/" + presetName;
@@ -157,7 +133,7 @@ void measureNetwork(BenchContext& b, networks::Network network, const std::strin
     const double forwardFlops = trainer->forwardFlops();
     const std::vector<std::string> variants = trainer->variants();
     std::vector<bool> measured(variants.size(), false);
-    const StepTiming timing(b);
+    const LongRunTiming timing(b);
     for (int64_t probe = 0; probe < 2 * kProbedSteps; ++probe) {
       const int64_t step = probe < kProbedSteps ? probe : t.steps - 2 * kProbedSteps + probe;
       if (step < 0 || step >= t.steps) continue;
@@ -180,9 +156,9 @@ void measureNetwork(BenchContext& b, networks::Network network, const std::strin
       if (stepFlops > 0) m.shape += ", net " + std::to_string(static_cast<int>(std::lround(100 * trainedFlops / stepFlops))) + "%";
     }
   } catch (const Error& error) {
-    notRun(b, base, error.what());
+    addNotRun(b, base, error.what());
   } catch (const std::bad_alloc&) {
-    notRun(b, base, "out of host memory");
+    addNotRun(b, base, "out of host memory");
   }
 }
 
