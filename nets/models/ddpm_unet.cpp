@@ -150,7 +150,7 @@ Var DdpmUNet::forward(Tape& tape, const Var& x, const Var& t) {
     if (i > 0)
       h = upsample_[static_cast<std::size_t>(i)]->forward(tape, fn::upsample(tape, h, 2, fn::ResampleMode::Nearest));
   }
-  return convOut_->forward(tape, normOut_->forwardThenSilu(tape, h));
+  return convOut_->forwardOfGroupNormSilu(tape, h, *normOut_);
 }
 
 }  // namespace smokesvd::models

@@ -17,7 +17,7 @@ Var activate(Tape& tape, ActivationKind kind, const Var& x, float negativeSlope)
 }
 
 Var Dropout::forward(Tape& tape, const Var& x) {
-  if (!training() || p_ == 0.0f) return x;
+  if (passesThrough()) return x;
   return fn::dropout(tape, x, p_, (seed_ << 32) + calls_++, true);
 }
 

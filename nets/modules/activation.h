@@ -29,6 +29,8 @@ class Dropout : public UnaryModule {
  public:
   explicit Dropout(float p, uint64_t seed = 0) : p_(p), seed_(seed) {}
   Var forward(Tape& tape, const Var& x) override;
+  // forward returns its input itself (evaluation mode, or p = 0)
+  bool passesThrough() const { return !training() || p_ == 0.0f; }
 
  private:
   float p_;

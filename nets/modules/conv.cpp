@@ -2,6 +2,7 @@
 
 #include "nets/functional/conv.h"
 #include "nets/functional/conv_of_parts.h"
+#include "nets/functional/norm_silu_conv.h"
 #include "nets/modules/flop_counter.h"
 #include "runtime/error.h"
 
@@ -27,6 +28,15 @@ Conv::Conv(Context& context, int dims, int64_t inChannels, int64_t outChannels, 
 Var Conv::forward(Tape& tape, const Var& x) { return convolve(tape, x, params_, nullptr); }
 
 Var Conv::forwardPlus(Tape& tape, const Var& x, const Var& addend) { return convolve(tape, x, params_, addend); }
+
+Var Conv::forwardOfGroupNormSilu(Tape& tape, const Var& x, const GroupNorm& norm, const Var& addend) {
+  if (!norm.weight()) throw Error("Conv: a GroupNorm without affine parameters cannot be fused into its input");
+  Var y = fn::convOfGroupNormSilu(tape, x, norm.weight(), norm.bias(), norm.groups(), norm.eps(), weight_, bias_,
+                                  params_, addend);
+  countLayer(2.0 * static_cast<double>(y->value.numel()) * static_cast<double>(weight_->value.numel() / weight_->value.size(0)),
+             y, {x}, weight_);
+  return y;
+}
 
 Var Conv::forwardThroughLeakyRelu(Tape& tape, const Var& x, float negativeSlope, const Var& addend) {
   ops::ConvParams params = params_;

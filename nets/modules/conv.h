@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "nets/modules/group_norm.h"
 #include "nets/modules/module.h"
 #include "nets/ops/conv.h"
 
@@ -23,6 +24,9 @@ class Conv : public UnaryModule {
   Var forward(Tape& tape, const Var& x) override;
   // addend + forward(x), the sum made as the output is written (a residual connection without a pass of its own).
   Var forwardPlus(Tape& tape, const Var& x, const Var& addend);
+  // (addend +) forward(SiLU(norm(x))) as one op (fn::convOfGroupNormSilu): the normalised, activated input is
+  // made where the convolution copies it into padded form, never as a tensor. `norm` must be affine.
+  Var forwardOfGroupNormSilu(Tape& tape, const Var& x, const GroupNorm& norm, const Var& addend = nullptr);
   // forward(leakyRelu(x, negativeSlope)), plus `addend` (a Var of the output's shape; nullptr: none), with the
   // activation and the sum fused into the convolution's kernels (ops::ConvParams::inputSlope,
   // fn::conv3d's addend): no activated copy of x is made or kept and the sum has no pass of its own.

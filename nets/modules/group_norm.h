@@ -12,6 +12,10 @@ class GroupNorm : public UnaryModule {
   Var forward(Tape& tape, const Var& x) override;
   // F.silu(forward(x)) in one pass (fn::groupNormSilu)
   Var forwardThenSilu(Tape& tape, const Var& x);
+  int groups() const { return groups_; }
+  float eps() const { return eps_; }
+  const Var& weight() const { return weight_; }  // nullptr without affine
+  const Var& bias() const { return bias_; }
 
  private:
   int groups_;

@@ -25,10 +25,11 @@ ResBlock::ResBlock(Context& context, ResBlockOptions o) {
 Var ResBlock::forward(Tape& tape, const Var& x, const Var& temb) {
   if (tembProj_ && !temb) throw Error("ResBlock: built with a timestep embedding, called without one");
   if (!tembProj_ && temb) throw Error("ResBlock: called with a timestep embedding it was not built for");
-  Var h = conv1_->forward(tape, norm1_->forwardThenSilu(tape, x));
+  Var h = conv1_->forwardOfGroupNormSilu(tape, x, *norm1_);
   if (tembProj_) h = fn::addChannel(tape, h, tembProj_->forward(tape, fn::silu(tape, temb)));
-  return conv2_->forwardPlus(tape, dropout_->forward(tape, norm2_->forwardThenSilu(tape, h)),
-                             shortcut_ ? shortcut_->forward(tape, x) : x);
+  const Var shortcut = shortcut_ ? shortcut_->forward(tape, x) : x;
+  if (dropout_->passesThrough()) return conv2_->forwardOfGroupNormSilu(tape, h, *norm2_, shortcut);
+  return conv2_->forwardPlus(tape, dropout_->forward(tape, norm2_->forwardThenSilu(tape, h)), shortcut);
 }
 
 }  // namespace smokesvd::modules

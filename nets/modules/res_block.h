@@ -6,7 +6,9 @@
 // Children and names as the reference PyTorch implementation's ResnetBlock: norm1, conv1, temb_proj,
 // norm2, conv2, nin_shortcut (GroupNorm with eps 1e-6, 3x3 convolutions with padding 1), so a block's
 // parameters are "norm1.weight", "norm1.bias", "conv1.weight", ..., "nin_shortcut.bias".
-// Each SiLU(norm(...)) runs as one op (fn::groupNormSilu), and conv2 adds the shortcut as it writes its output.
+// Each conv(SiLU(norm(...))) runs as one op (fn::convOfGroupNormSilu: the normalised input is made where the
+// convolution pads it, never as a tensor; with active dropout between them, fn::groupNormSilu then the
+// convolution), and conv2 adds the shortcut as it writes its output.
 #pragma once
 
 #include <memory>

@@ -27,6 +27,23 @@ void requireOutputPadding(const char* op, const ConvParams& params) {
 
 int64_t taps(const Int3& kernel) { return kernel[0] * kernel[1] * kernel[2]; }
 
+// A convolution reading its input through GroupNorm then SiLU: a padded (non-pointwise) kernel, no leaky ReLU,
+// and the norm's tensors of the input's shape.
+void requireNormSilu(const char* op, const ConvGeometry& g, const NormSiluInput& norm, const ConvParams& params) {
+  if (norm.stats == nullptr || norm.gamma == nullptr || norm.beta == nullptr)
+    throw Error(std::string(op) + ": the norm needs its statistics, gamma and beta");
+  if (conv::isPointwise(g))
+    throw Error(std::string(op) + ": a pointwise kernel reads its input unpadded; normalise it with fn::groupNormSilu");
+  if (params.inputSlope != 1.0f)
+    throw Error(std::string(op) + ": input slope " + std::to_string(params.inputSlope) + ", expected 1");
+  if (norm.groups < 1 || g.inChannels % norm.groups != 0)
+    throw Error(std::string(op) + ": " + std::to_string(norm.groups) + " groups do not divide " +
+                std::to_string(g.inChannels) + " channels");
+  conv::requireShape(op, "norm statistics", norm.stats->shape(), {g.batch * norm.groups, 2});
+  conv::requireShape(op, "norm gamma", norm.gamma->shape(), {g.inChannels});
+  conv::requireShape(op, "norm beta", norm.beta->shape(), {g.inChannels});
+}
+
 // The input activation belongs to the convolution's own forward, weight-gradient and activated-input passes.
 void requireNoInputActivation(const char* op, const ConvParams& params) {
   if (params.inputSlope != 1.0f)
@@ -60,16 +77,17 @@ void pointwise(Stream& stream, const ConvGeometry& g, const Tensor& x, const Ten
 // y = addend + conv(f(x), w) + b (no addend: 0): pad f(x), pack w as [C, k..., K], one direct pass with
 // the conv's stride.
 void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& w, const Tensor* bias,
-             const Tensor& y, ConvBlocking blocking, float inputSlope, const Tensor* addend = nullptr) {
+             const Tensor& y, ConvBlocking blocking, const conv::PadActivation& activation,
+             const Tensor* addend = nullptr) {
   if (conv::isPointwise(g))
-    return pointwise(stream, g, x, w, bias, y, blocking, false, inputSlope, {.addend = addend});
+    return pointwise(stream, g, x, w, bias, y, blocking, false, activation.inputSlope, {.addend = addend});
   const ConvBlocking chosen =
       conv::directBlocking(stream.context().info(), blocking, g.output[2], g.kernel[0], g.outChannels);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t xBlocks = (g.output[2] + pixels - 1) / pixels;
   const Int3 size{(g.output[0] - 1) * g.stride + g.kernel[0], (g.output[1] - 1) * g.stride + g.kernel[1],
                   (xBlocks * pixels - 1) * g.stride + g.kernel[2]};
-  const conv::Padded xp = conv::pad(stream, conv::as5d(x), g.padding, size, inputSlope);
+  const conv::Padded xp = conv::pad(stream, conv::as5d(x), g.padding, size, activation);
 
   conv::WeightPacking packing;
   packing.outChannels = g.outChannels;
@@ -153,14 +171,14 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
 }
 
 void weightGradient(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& dy, const Tensor& dw,
-                    ConvBlocking blocking, float inputSlope) {
-  if (conv::isPointwise(g)) return conv::pointwiseWeightGrad(stream, x, dy, dw, inputSlope);
+                    ConvBlocking blocking, const conv::PadActivation& activation) {
+  if (conv::isPointwise(g)) return conv::pointwiseWeightGrad(stream, x, dy, dw, activation.inputSlope);
   const ConvBlocking chosen = conv::weightGradBlocking(stream.context().info(), blocking, g.output[2], g.outChannels);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t paddedWidth = conv::roundUp(g.output[2], pixels);
   const Int3 size{(g.output[0] - 1) * g.stride + g.kernel[0], (g.output[1] - 1) * g.stride + g.kernel[1],
                   (paddedWidth - 1) * g.stride + g.kernel[2]};
-  const conv::Padded xp = conv::pad(stream, conv::as5d(x), g.padding, size, inputSlope);
+  const conv::Padded xp = conv::pad(stream, conv::as5d(x), g.padding, size, activation);
   const Tensor rows = conv::packGrad(stream, conv::as5d(dy), paddedWidth,
                                      conv::roundUp(g.outChannels, 4 * static_cast<int64_t>(channelVec4s)));
   conv::weightGrad(stream, g, xp, rows, dw, pixels, channelVec4s);
@@ -197,7 +215,7 @@ void convForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor*
   const ConvGeometry g = conv::convGeometry(op, x.shape(), w.shape(), params);
   conv::requireShape(op, "output", y.shape(), g.outputShape());
   requireBias(op, bias, g.outChannels);
-  forward(stream, g, x, w, bias, y, blocking, params.inputSlope);
+  forward(stream, g, x, w, bias, y, blocking, {.inputSlope = params.inputSlope});
 }
 
 void convForwardPlus(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias, const Tensor& addend,
@@ -207,7 +225,7 @@ void convForwardPlus(Stream& stream, const Tensor& x, const Tensor& w, const Ten
   conv::requireShape(op, "output", y.shape(), g.outputShape());
   conv::requireShape(op, "addend", addend.shape(), g.outputShape());
   requireBias(op, bias, g.outChannels);
-  forward(stream, g, x, w, bias, y, blocking, params.inputSlope, &addend);
+  forward(stream, g, x, w, bias, y, blocking, {.inputSlope = params.inputSlope}, &addend);
 }
 
 void convBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const ConvParams& params, const Tensor& dx,
@@ -235,7 +253,28 @@ void convBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const
   const char* op = "conv backward weight";
   const ConvGeometry g = conv::convGeometry(op, x.shape(), dw.shape(), params);
   conv::requireShape(op, "output gradient", dy.shape(), g.outputShape());
-  weightGradient(stream, g, x, dy, dw, blocking, params.inputSlope);
+  weightGradient(stream, g, x, dy, dw, blocking, {.inputSlope = params.inputSlope});
+}
+
+void convForwardOfNormSilu(Stream& stream, const Tensor& x, const NormSiluInput& norm, const Tensor& w,
+                           const Tensor* bias, const Tensor* addend, const ConvParams& params, const Tensor& y,
+                           ConvBlocking blocking) {
+  const char* op = "conv forward of norm silu";
+  const ConvGeometry g = conv::convGeometry(op, x.shape(), w.shape(), params);
+  conv::requireShape(op, "output", y.shape(), g.outputShape());
+  if (addend != nullptr) conv::requireShape(op, "addend", addend->shape(), g.outputShape());
+  requireBias(op, bias, g.outChannels);
+  requireNormSilu(op, g, norm, params);
+  forward(stream, g, x, w, bias, y, blocking, {.norm = &norm}, addend);
+}
+
+void convBackwardWeightOfNormSilu(Stream& stream, const Tensor& x, const NormSiluInput& norm, const Tensor& dy,
+                                  const ConvParams& params, const Tensor& dw, ConvBlocking blocking) {
+  const char* op = "conv backward weight of norm silu";
+  const ConvGeometry g = conv::convGeometry(op, x.shape(), dw.shape(), params);
+  conv::requireShape(op, "output gradient", dy.shape(), g.outputShape());
+  requireNormSilu(op, g, norm, params);
+  weightGradient(stream, g, x, dy, dw, blocking, {.norm = &norm});
 }
 
 void convBackwardBias(Stream& stream, const Tensor& dy, const Tensor& db) {
@@ -263,7 +302,7 @@ void convTransposeBackwardInput(Stream& stream, const Tensor& dy, const Tensor& 
   requireNoInputActivation(op, params);
   const ConvGeometry g = conv::convGeometry(op, dy.shape(), w.shape(), params);
   conv::requireShape(op, "input gradient", dx.shape(), g.outputShape());
-  forward(stream, g, dy, w, nullptr, dx, blocking, 1.0f);
+  forward(stream, g, dy, w, nullptr, dx, blocking, {});
 }
 
 void convTransposeBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const ConvParams& params,
@@ -273,7 +312,7 @@ void convTransposeBackwardWeight(Stream& stream, const Tensor& x, const Tensor& 
   requireNoInputActivation(op, params);
   const ConvGeometry g = conv::convGeometry(op, dy.shape(), dw.shape(), params);
   conv::requireShape(op, "input", x.shape(), g.outputShape());
-  weightGradient(stream, g, dy, x, dw, blocking, 1.0f);
+  weightGradient(stream, g, dy, x, dw, blocking, {});
 }
 
 }  // namespace smokesvd::ops

@@ -35,6 +35,18 @@ struct ConvBlocking {
   DirectFetch fetch = DirectFetch::DeviceDefault;  // the direct pass (forward, backward-input, transposed)
 };
 
+// The GroupNorm-then-SiLU a convolution can read its input through (convForwardOfNormSilu): each value v
+// of x [N, C, ...] is read as SiLU((v - mean) rstd gamma[c] + beta[c]), (mean, rstd) of its sample's group
+// from `stats` ([N * groups, 2], ops::groupNormStats), gamma and beta [C]; the zero padding stays zero.
+// It is fn::groupNormSilu's output without the tensor: the same values, made where the convolution copies
+// its input into padded form.
+struct NormSiluInput {
+  const Tensor* stats = nullptr;
+  const Tensor* gamma = nullptr;
+  const Tensor* beta = nullptr;
+  int64_t groups = 1;
+};
+
 Shape convOutputShape(const Shape& x, const Shape& w, const ConvParams& params);
 Shape convTransposeOutputShape(const Shape& x, const Shape& w, const ConvParams& params);
 
@@ -60,6 +72,16 @@ void convBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const
                         const Tensor& dw, ConvBlocking blocking = {});
 // db[k] = sum of dy over the batch and every position of channel k (conv and transposed conv alike).
 void convBackwardBias(Stream& stream, const Tensor& dy, const Tensor& db);
+
+// y = (addend +) conv(f(x), w) + b, f the GroupNorm-then-SiLU of `norm`; not a pointwise convolution that
+// runs unpadded (a 1x1 kernel on positions of a multiple of 4), params.inputSlope 1. Its input gradient is convBackwardInput's (the
+// gradient at f(x)) through groupNormBackward with NormActivation::Silu.
+void convForwardOfNormSilu(Stream& stream, const Tensor& x, const NormSiluInput& norm, const Tensor& w,
+                           const Tensor* bias, const Tensor* addend, const ConvParams& params, const Tensor& y,
+                           ConvBlocking blocking = {});
+// dw = d<dy, conv(f(x), w)>/dw, f as in convForwardOfNormSilu.
+void convBackwardWeightOfNormSilu(Stream& stream, const Tensor& x, const NormSiluInput& norm, const Tensor& dy,
+                                  const ConvParams& params, const Tensor& dw, ConvBlocking blocking = {});
 
 // y = convTranspose(x, w) + b, the adjoint of conv with the same weight (weight [Cin, Cout, k...]).
 void convTransposeForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias,

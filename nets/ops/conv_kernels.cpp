@@ -127,7 +127,7 @@ ConvBlocking weightGradBlocking(const DeviceInfo& device, ConvBlocking requested
   return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : channelVec4s};
 }
 
-Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, float inputSlope) {
+Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, const PadActivation& activation) {
   const Shape& s = x5.shape();
   Padded xp;
   xp.size = {size[0], size[1], roundUp(size[2], 4)};
@@ -135,16 +135,24 @@ Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, 
   xp.channels = s[1];
   // Four floats of slack: a kernel may read a whole vec4 from the last element on.
   xp.tensor = Tensor(stream.context(), {s[0] * s[1] * xp.size[0] * xp.size[1] * xp.size[2] + 4});
+  const NormSiluInput* norm = activation.norm;
   struct {
     int32_t depth, height, width, paddedDepth, paddedHeight, paddedRowVec4s, lowZ, lowY, lowX;
     float slope;
-  } push{i32(s[2]),          i32(s[3]),          i32(s[4]),           i32(xp.size[0]), i32(xp.size[1]),
-         i32(xp.size[2] / 4), i32(low[0]), i32(low[1]), i32(low[2]), inputSlope};
+    int32_t channels, channelsPerGroup;
+  } push{i32(s[2]),          i32(s[3]),   i32(s[4]),   i32(xp.size[0]), i32(xp.size[1]),
+         i32(xp.size[2] / 4), i32(low[0]), i32(low[1]), i32(low[2]),     activation.inputSlope,
+         i32(s[1]),           norm ? i32(s[1] / norm->groups) : 1};
+  const int32_t kind = norm ? 2 : activation.inputSlope != 1.0f ? 1 : 0;
   // Rows of a multiple of 4 values are read as vec4 texels.
   const bool vec4Source = s[4] % 4 == 0;
-  const Kernel& kernel = stream.kernel("nn/conv_pad", kRowWorkgroup, {inputSlope != 1.0f ? 1 : 0, vec4Source ? 1 : 0});
-  stream.dispatch(kernel, {vec4Source ? asVec4(x5) : Arg(x5), xp.tensor}, push,
-                  {groupsFor(xp.size[1], kRowWorkgroup[0]), static_cast<uint32_t>(s[0] * s[1] * xp.size[0]), 1});
+  const Arg source = vec4Source ? asVec4(x5) : Arg(x5);
+  const Kernel& kernel = stream.kernel("nn/conv_pad", kRowWorkgroup, {kind, vec4Source ? 1 : 0});
+  // Without a norm the source fills the norm's three (unread) bindings.
+  stream.dispatch(kernel,
+                  {source, xp.tensor, norm ? Arg(*norm->stats) : source, norm ? Arg(*norm->gamma) : source,
+                   norm ? Arg(*norm->beta) : source},
+                  push, {groupsFor(xp.size[1], kRowWorkgroup[0]), static_cast<uint32_t>(s[0] * s[1] * xp.size[0]), 1});
   return xp;
 }
 

@@ -26,8 +26,14 @@ struct Padded {
   int64_t channels = 0;
   Int3 size{};
 };
-// inputSlope != 1 copies each value through leaky ReLU with that negative slope (ConvParams::inputSlope).
-Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, float inputSlope = 1.0f);
+// What the padding copy applies to each value of x it copies (the padding itself stays zero): leaky ReLU
+// with the negative slope inputSlope (1: nothing; ConvParams::inputSlope), or, given `norm`, GroupNorm then
+// SiLU (ops::NormSiluInput).
+struct PadActivation {
+  float inputSlope = 1.0f;
+  const NormSiluInput* norm = nullptr;
+};
+Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, const PadActivation& activation = {});
 
 // Where packed weight [c, r, s, t, k] comes from in a weight tensor: k and c are source axes with element
 // strides strideK and strideC; the tap (r, s, t) reads source tap firstTap + (r, s, t) * tapStep of a

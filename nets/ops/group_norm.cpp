@@ -52,12 +52,8 @@ GroupNormShape groupNormShape(const Shape& shape, int64_t groups) {
   return {shape[0], shape[1], groups, numElements(shape) / (shape[0] * shape[1])};
 }
 
-void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& beta, int64_t groups,
-                      float eps, const Tensor& y, const Tensor& stats, NormActivation activation) {
+void groupNormStats(Stream& stream, const Tensor& x, int64_t groups, float eps, const Tensor& stats) {
   const GroupNormShape s = groupNormShape(x.shape(), groups);
-  requireShape("gamma", gamma, {s.channels});
-  requireShape("beta", beta, {s.channels});
-  requireShape("y", y, x.shape());
   requireShape("stats", stats, {s.batch * groups, 2});
   const int64_t groupSize = s.channels / groups * s.planeSize;
   const int32_t chunks = chunksOf(groupSize);
@@ -74,7 +70,15 @@ void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, cons
                                                                         blocks, eps};
   stream.dispatchFlat(stream.kernel("nn/group_norm_finalize", {64, 1, 1}, {kChunk}), {partial, stats}, finalizePush,
                       static_cast<uint64_t>(blocks));
+}
 
+void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& beta, int64_t groups,
+                      float eps, const Tensor& y, const Tensor& stats, NormActivation activation) {
+  const GroupNormShape s = groupNormShape(x.shape(), groups);
+  requireShape("gamma", gamma, {s.channels});
+  requireShape("beta", beta, {s.channels});
+  requireShape("y", y, x.shape());
+  groupNormStats(stream, x, groups, eps, stats);
   const int32_t planeVec4 = vec4When(s.planeSize);
   stream.dispatch(stream.kernel("nn/group_norm_apply", {reduceWorkgroup(stream), 1, 1},
                                 {planeVec4, kChunk, siluFlag(activation)}),

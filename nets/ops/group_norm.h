@@ -22,6 +22,10 @@ GroupNormShape groupNormShape(const Shape& x, int64_t groups);
 // norm-then-SiLU of a DDPM residual block in one pass; its backward recomputes z instead of storing it).
 enum class NormActivation { None, Silu };
 
+// stats ([N * groups, 2]): each (sample, group)'s mean and 1 / sqrt(var + eps), the first two of the
+// forward's three passes (a convolution that normalises its input as it reads it needs only these).
+void groupNormStats(Stream& stream, const Tensor& x, int64_t groups, float eps, const Tensor& stats);
+
 // z = (x - mean) / sqrt(var + eps) * gamma[c] + beta[c], gamma and beta [C], y = z or SiLU(z); stats
 // ([N * groups, 2]: mean, 1 / sqrt(var + eps)) is written for the backward.
 void groupNormForward(Stream& stream, const Tensor& x, const Tensor& gamma, const Tensor& beta, int64_t groups,
