@@ -3,8 +3,8 @@
 # on a GPU"), with build-gpu/bundle.tar.xz made by tools/gpu/make-bundle.sh copied beside it. In order of
 # what is missing most, each step under its own time limit so that a slow one cannot take the rest:
 #   1. the device (smokesvd info);
-#   2. every network's training step at the small and paper presets (smokesvd bench /small, /paper:
-#      time, GFLOP/s, the recording's memory), with the GPU's own memory in use sampled by nvidia-smi
+#   2. every network's training step and inference pass at the small and paper presets (smokesvd bench
+#      /small, /paper: time, GFLOP/s, the recording's memory), with the GPU's own memory in use sampled by nvidia-smi
 #      meanwhile (the paper preset must fit a 24 GB GPU at batch 1);
 #   3. a short paper-preset training run of the coarse G_rho on freshly simulated paper-preset scenes;
 #   4. the test programs, with the Khronos validation layer on as in ctest;
@@ -93,7 +93,7 @@ if [[ -n "$sampler" ]]; then
   awk -F', ' '{gsub(/ MiB/, "", $2); if ($2 + 0 > peak) peak = $2 + 0} END {print "GPU memory in use, peak over the training benchmarks: " peak " MiB"}' \
     "$out/gpu-memory.csv" | tee -a "$summary"
 fi
-grep -E '^train/' "$out/bench-train.log" >>"$summary" 2>/dev/null
+grep -E '^(train|infer)/' "$out/bench-train.log" >>"$summary" 2>/dev/null
 
 # 3. A short paper-preset training run (11 scenes: every 10th is held out for validation).
 preset=paper
