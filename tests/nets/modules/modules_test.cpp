@@ -5,6 +5,10 @@
 #include <cmath>
 #include <filesystem>
 
+#include "nets/functional/conv.h"
+#include "nets/functional/dropout.h"
+#include "nets/functional/elementwise.h"
+#include "nets/functional/group_norm.h"
 #include "nets/io/safetensors.h"
 #include "nets/io/temporary_folder.h"
 #include "nets/modules/activation.h"
@@ -303,6 +307,31 @@ TEST_F(ModulesTest, ResBlock3dOnOneSliceEqualsResBlock2d) {
   stream.submit();
   EXPECT_EQ(y3->value.shape(), (Shape{2, 4, 1, 4, 5}));
   EXPECT_TRUE(allClose(y3->value, y2->value.download(), {1e-5, 1e-5}));
+}
+
+// With dropout active (training, p > 0) the block cannot read its second norm inside conv2 and runs the norm,
+// the dropout and the convolution one after the other: the same as composing them by hand.
+TEST_F(ModulesTest, ResBlockWithActiveDropoutIsTheComposition) {
+  ResBlock block(context(), {.inChannels = 2, .groups = 2, .dropout = 0.5f, .dropoutSeed = 9});
+  block.initialize(3);
+  const NamedParameters p = block.namedParameters();
+  auto parameter = [&](const std::string& name) {
+    for (const auto& [n, v] : p)
+      if (n == name) return v;
+    throw Error("no parameter " + name);
+  };
+  const Var x = variable(randomTensor(context(), {1, 2, 5, 6}, 4));
+  const ops::ConvParams same{1, 1};
+  Stream stream(context());
+  Tape tape(stream);
+  const Var y = block.forward(tape, x);
+  const Var h = fn::conv2d(tape, fn::groupNormSilu(tape, x, parameter("norm1.weight"), parameter("norm1.bias"), 2, 1e-6f),
+                           parameter("conv1.weight"), parameter("conv1.bias"), same);
+  const Var dropped = fn::dropout(tape, fn::groupNormSilu(tape, h, parameter("norm2.weight"), parameter("norm2.bias"), 2, 1e-6f),
+                                  0.5f, uint64_t{9} << 32, true);
+  const Var expected = fn::add(tape, x, fn::conv2d(tape, dropped, parameter("conv2.weight"), parameter("conv2.bias"), same));
+  stream.submit();
+  EXPECT_TRUE(allClose(y->value, expected->value.download(), {1e-6, 1e-6}));
 }
 
 TEST_F(ModulesTest, ResBlockChecksItsEmbeddingAndGroups) {
