@@ -31,11 +31,9 @@ Var Conv::forwardPlus(Tape& tape, const Var& x, const Var& addend) { return conv
 
 Var Conv::forwardOfGroupNormSilu(Tape& tape, const Var& x, const GroupNorm& norm, const Var& addend) {
   if (!norm.weight()) throw Error("Conv: a GroupNorm without affine parameters cannot be fused into its input");
-  Var y = fn::convOfGroupNormSilu(tape, x, norm.weight(), norm.bias(), norm.groups(), norm.eps(), weight_, bias_,
-                                  params_, addend);
-  countLayer(2.0 * static_cast<double>(y->value.numel()) * static_cast<double>(weight_->value.numel() / weight_->value.size(0)),
-             y, {x}, weight_);
-  return y;
+  return counted(fn::convOfGroupNormSilu(tape, x, norm.weight(), norm.bias(), norm.groups(), norm.eps(), weight_,
+                                         bias_, params_, addend),
+                 x);
 }
 
 Var Conv::forwardThroughLeakyRelu(Tape& tape, const Var& x, float negativeSlope, const Var& addend) {
@@ -45,8 +43,12 @@ Var Conv::forwardThroughLeakyRelu(Tape& tape, const Var& x, float negativeSlope,
 }
 
 Var Conv::convolve(Tape& tape, const Var& x, const ops::ConvParams& params, const Var& addend) {
-  Var y = dims_ == 2 ? fn::conv2d(tape, x, weight_, bias_, params, addend)
-                     : fn::conv3d(tape, x, weight_, bias_, params, addend);
+  return counted(dims_ == 2 ? fn::conv2d(tape, x, weight_, bias_, params, addend)
+                            : fn::conv3d(tape, x, weight_, bias_, params, addend),
+                 x);
+}
+
+Var Conv::counted(const Var& y, const Var& x) {
   // weight [out, in, k...]: per output element, in * k^dims multiply-adds.
   countLayer(2.0 * static_cast<double>(y->value.numel()) * static_cast<double>(weight_->value.numel() / weight_->value.size(0)),
              y, {x}, weight_);

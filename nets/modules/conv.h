@@ -40,6 +40,8 @@ class Conv : public UnaryModule {
 
  private:
   Var convolve(Tape& tape, const Var& x, const ops::ConvParams& params, const Var& addend);
+  // y, its FLOPs counted as this layer's on input x (modules::FlopCounter)
+  Var counted(const Var& y, const Var& x);
 
   int dims_;
   ops::ConvParams params_;

@@ -158,15 +158,21 @@ void render(Stream& stream, const Tensor& density, const ViewSet& views, const R
 
 namespace {
 
+// The most samples of `step` a ray takes across the box [-1/2, size + 1/2] when it moves along the axes whose
+// box extents (size + 1) are given: the box's diagonal over them / step, and one more.
+uint64_t samplesAcross(std::initializer_list<int64_t> sizes, double step) {
+  double squared = 0;
+  for (const int64_t size : sizes) squared += static_cast<double>(size + 1) * static_cast<double>(size + 1);
+  return static_cast<uint64_t>(std::ceil(std::sqrt(squared) / step)) + 1;
+}
+
 // The march's adjoint into `direct` (and, lit, `gradShadow`) where every ray runs in a voxel row, on a CPU
 // device: one invocation per voxel plane adds without atomics (march_adjoint_rows.comp).
 void marchAdjointByPlanes(Stream& stream, const MarchInputs& in, const Tensor& direct, const Tensor& gradShadow) {
   stream.fillZero(direct);
   if (in.lit) stream.fillZero(gradShadow);
-  // A ray in a voxel row crosses the box's horizontal section [-1/2, size + 1/2] in at most its diagonal /
-  // step samples.
-  const auto x = static_cast<double>(in.grid.x + 1), z = static_cast<double>(in.grid.z + 1);
-  const auto samples = static_cast<uint64_t>(std::ceil(std::sqrt(x * x + z * z) / in.settings.step)) + 1;
+  // A ray in a voxel row stays in one horizontal section of the box.
+  const uint64_t samples = samplesAcross({in.grid.x, in.grid.z}, in.settings.step);
   dispatchByPlanes(stream, stream.kernel("render/march_adjoint_rows", kPlaneWorkgroup, {in.lit ? 1 : 0}),
                    {in.density, in.shadowOrDensity, asVec4(in.views.table), in.images, in.gradImages, direct, gradShadow,
                     in.look},
@@ -177,10 +183,7 @@ void marchAdjointByPlanes(Stream& stream, const MarchInputs& in, const Tensor& d
 // The march's adjoint into `direct` (and, lit, `gradShadow`) with float atomics, one invocation per pixel
 // (march_adjoint.glsl), in deterministic shards on CPU devices.
 void marchAdjointScattered(Stream& stream, const MarchInputs& in, const Tensor& direct, const Tensor& gradShadow) {
-  // A ray crosses the box [-1/2, size + 1/2] in at most its diagonal / step samples.
-  const auto x = static_cast<double>(in.grid.x + 1), y = static_cast<double>(in.grid.y + 1),
-             z = static_cast<double>(in.grid.z + 1);
-  const auto samples = static_cast<uint64_t>(std::ceil(std::sqrt(x * x + y * y + z * z) / in.settings.step)) + 1;
+  const uint64_t samples = samplesAcross({in.grid.x, in.grid.y, in.grid.z}, in.settings.step);
   const uint64_t items = static_cast<uint64_t>(in.images.numel());
   const int shards = scatterShards(stream.context(), items, samples, kWorkgroup[0]);
   const MarchAdjointPush push{marchPush(in.grid, in.views, in.settings),
