@@ -25,6 +25,7 @@
 #include "pipeline/preset.h"
 #include "runtime/error.h"
 #include "tools/bench/bench.h"
+#include "tools/bench/network_benchmarks.h"
 
 namespace smokesvd::bench {
 namespace {
@@ -95,8 +96,7 @@ Inference makeInference(Context& context, const networks::NetworkConfig& config,
   throw Error("infer: no benchmark for " + networks::networkName(config.network));
 }
 
-void measureInference(BenchContext& b, Network network, const std::string& presetName) {
-  const std::string name = "infer/" + networks::networkName(network) + "/" + presetName;
+void measureInference(BenchContext& b, const std::string& name, Network network, const std::string& presetName) {
   Context& context = b.context();
   try {
     const Preset& p = preset(presetName);
@@ -127,16 +127,7 @@ void measureInference(BenchContext& b, Network network, const std::string& prese
   }
 }
 
-bool registerInference() {
-  for (const Network network : networks::allNetworks())
-    for (const char* presetName : {"tiny", "small", "paper"}) {
-      const std::string name = "infer/" + networks::networkName(network) + "/" + presetName;
-      registerBenchmark({name, [network, presetName](BenchContext& b) { measureInference(b, network, presetName); }});
-    }
-  return true;
-}
-
-const bool registered = registerInference();
+const bool registered = registerNetworkBenchmarks("infer", measureInference);
 
 }  // namespace
 }  // namespace smokesvd::bench

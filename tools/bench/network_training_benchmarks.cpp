@@ -36,6 +36,7 @@
 #include "pipeline/train/training_step.h"
 #include "runtime/error.h"
 #include "tools/bench/bench.h"
+#include "tools/bench/network_benchmarks.h"
 
 namespace smokesvd::bench {
 namespace {
@@ -115,8 +116,8 @@ PresetScratch& scratch(Context& context, const std::string& presetName) {
 }
 
 // Every variant of the trainer's step, each after the sample of the first probed step that asks for it.
-void measureNetwork(BenchContext& b, networks::Network network, const std::string& presetName) {
-  const std::string base = "train/" + networks::networkName(network) + "/" + presetName;
+void measureNetwork(BenchContext& b, const std::string& base, networks::Network network,
+                    const std::string& presetName) {
   Context& context = b.context();
   try {
     const networks::NetworkConfig config = benchConfig(presetName, network);
@@ -162,16 +163,7 @@ void measureNetwork(BenchContext& b, networks::Network network, const std::strin
   }
 }
 
-bool registerNetworks() {
-  for (const networks::Network network : networks::allNetworks())
-    for (const char* presetName : {"tiny", "small", "paper"}) {
-      const std::string name = "train/" + networks::networkName(network) + "/" + presetName;
-      registerBenchmark({name, [network, presetName](BenchContext& b) { measureNetwork(b, network, presetName); }});
-    }
-  return true;
-}
-
-const bool registered = registerNetworks();
+const bool registered = registerNetworkBenchmarks("train", measureNetwork);
 
 }  // namespace
 }  // namespace smokesvd::bench
