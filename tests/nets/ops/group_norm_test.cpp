@@ -12,41 +12,12 @@
 #include "tests/harness/op_runner.h"
 #include "tests/harness/gradcheck.h"
 #include "tests/harness/random.h"
+#include "tests/nets/ops/group_norm_reference.h"
 
 namespace smokesvd::testing {
 namespace {
 
 class GroupNormTest : public GpuTest {};
-
-struct Layout {
-  int64_t batch, channels, groups, planeSize;
-  int64_t groupSize() const { return channels / groups * planeSize; }
-};
-
-Layout layoutOf(const Shape& shape, int64_t groups) {
-  return {shape[0], shape[1], groups, numElements(shape) / (shape[0] * shape[1])};
-}
-
-// F.group_norm in double: mean and biased variance per (sample, group), two passes.
-std::vector<double> reference(std::span<const double> x, std::span<const double> gamma, std::span<const double> beta,
-                              const Layout& l, double eps) {
-  std::vector<double> y(x.size());
-  const int64_t m = l.groupSize();
-  for (int64_t b = 0; b < l.batch * l.groups; ++b) {
-    const auto block = x.subspan(static_cast<std::size_t>(b * m), static_cast<std::size_t>(m));
-    double mean = 0, var = 0;
-    for (double v : block) mean += v;
-    mean /= static_cast<double>(m);
-    for (double v : block) var += (v - mean) * (v - mean);
-    const double rstd = 1.0 / std::sqrt(var / static_cast<double>(m) + eps);
-    for (int64_t i = 0; i < m; ++i) {
-      const int64_t c = (b % l.groups) * (l.channels / l.groups) + i / l.planeSize;
-      const std::size_t at = static_cast<std::size_t>(b * m + i);
-      y[at] = (x[at] - mean) * rstd * gamma[static_cast<std::size_t>(c)] + beta[static_cast<std::size_t>(c)];
-    }
-  }
-  return y;
-}
 
 struct Inputs {
   std::vector<float> x, gamma, beta;
@@ -78,8 +49,9 @@ TEST_F(GroupNormTest, ForwardMatchesReference) {
     ops::groupNormForward(stream, Tensor::fromHost(context(), t.shape, in.x), Tensor::fromHost(context(), c, in.gamma),
                           Tensor::fromHost(context(), c, in.beta), t.groups, eps, y, stats);
     stream.submit();
-    EXPECT_TRUE(allClose(y, reference(toDouble(in.x), toDouble(in.gamma), toDouble(in.beta),
-                                      layoutOf(t.shape, t.groups), eps), {2e-5, 2e-5}));
+    EXPECT_TRUE(allClose(y, groupNormReference(toDouble(in.x), toDouble(in.gamma), toDouble(in.beta),
+                                               groupNormLayout(t.shape, t.groups), eps),
+                         {2e-5, 2e-5}));
   }
 }
 
@@ -97,8 +69,9 @@ TEST_F(GroupNormTest, LargeMeanInputsKeepTheirPrecision) {
     ops::groupNormForward(stream, Tensor::fromHost(context(), t.shape, in.x), Tensor::fromHost(context(), c, in.gamma),
                           Tensor::fromHost(context(), c, in.beta), t.groups, 1e-5f, y, stats);
     stream.submit();
-    EXPECT_TRUE(allClose(y, reference(toDouble(in.x), toDouble(in.gamma), toDouble(in.beta),
-                                      layoutOf(t.shape, t.groups), 1e-5), {1.5e-4, 0}));
+    EXPECT_TRUE(allClose(y, groupNormReference(toDouble(in.x), toDouble(in.gamma), toDouble(in.beta),
+                                               groupNormLayout(t.shape, t.groups), 1e-5),
+                         {1.5e-4, 0}));
   }
 }
 
@@ -118,14 +91,17 @@ TEST_F(GroupNormTest, BackwardMatchesFiniteDifferences) {
     Var y = fn::groupNorm(tape, x, gamma, beta, static_cast<int>(t.groups), eps);
     tape.backward({{y, upstream}});
     stream.submit();
-    const Layout l = layoutOf(t.shape, t.groups);
+    const GroupNormLayout l = groupNormLayout(t.shape, t.groups);
     const auto dx = toDouble(in.x), dgamma = toDouble(in.gamma), dbeta = toDouble(in.beta), dg = toDouble(g);
-    EXPECT_TRUE(allClose(y->value, reference(dx, dgamma, dbeta, l, eps), {2e-5, 2e-5}));
-    EXPECT_TRUE(allClose(x->grad, numericVjp([&](auto p) { return reference(p, dgamma, dbeta, l, eps); }, dx, dg),
+    EXPECT_TRUE(allClose(y->value, groupNormReference(dx, dgamma, dbeta, l, eps), {2e-5, 2e-5}));
+    EXPECT_TRUE(allClose(x->grad,
+                         numericVjp([&](auto p) { return groupNormReference(p, dgamma, dbeta, l, eps); }, dx, dg),
                          {1e-4, 1e-4}));
-    EXPECT_TRUE(allClose(gamma->grad, numericVjp([&](auto p) { return reference(dx, p, dbeta, l, eps); }, dgamma, dg),
+    EXPECT_TRUE(allClose(gamma->grad,
+                         numericVjp([&](auto p) { return groupNormReference(dx, p, dbeta, l, eps); }, dgamma, dg),
                          {1e-4, 1e-4}));
-    EXPECT_TRUE(allClose(beta->grad, numericVjp([&](auto p) { return reference(dx, dgamma, p, l, eps); }, dbeta, dg),
+    EXPECT_TRUE(allClose(beta->grad,
+                         numericVjp([&](auto p) { return groupNormReference(dx, dgamma, p, l, eps); }, dbeta, dg),
                          {1e-4, 1e-4}));
   }
 }
@@ -136,7 +112,7 @@ struct Gradients {
 };
 
 Gradients analyticBackward(std::span<const double> x, std::span<const double> gamma, std::span<const double> g,
-                           const Layout& l, double eps) {
+                           const GroupNormLayout& l, double eps) {
   Gradients out{std::vector<double>(x.size()), std::vector<double>(gamma.size()), std::vector<double>(gamma.size())};
   const int64_t m = l.groupSize();
   for (int64_t b = 0; b < l.batch * l.groups; ++b) {
@@ -186,19 +162,11 @@ TEST_F(GroupNormTest, BackwardOnLargeShapesMatchesAnalyticGradients) {
                            gbeta);
     stream.submit();
     const Gradients expected =
-        analyticBackward(toDouble(in.x), toDouble(in.gamma), toDouble(g), layoutOf(t.shape, t.groups), 1e-5);
+        analyticBackward(toDouble(in.x), toDouble(in.gamma), toDouble(g), groupNormLayout(t.shape, t.groups), 1e-5);
     EXPECT_TRUE(allClose(gx, expected.x, {1e-4, 1e-4}));
     EXPECT_TRUE(allClose(ggamma, expected.gamma, {1e-3, 1e-4}));
     EXPECT_TRUE(allClose(gbeta, expected.beta, {1e-3, 1e-4}));
   }
-}
-
-// F.silu of the reference, in double
-std::vector<double> referenceSilu(std::span<const double> x, std::span<const double> gamma,
-                                  std::span<const double> beta, const Layout& l, double eps) {
-  std::vector<double> y = reference(x, gamma, beta, l, eps);
-  for (double& v : y) v = v / (1.0 + std::exp(-v));
-  return y;
 }
 
 TEST_F(GroupNormTest, SiluAfterTheNormMatchesReferenceAndFiniteDifferences) {
@@ -225,11 +193,11 @@ TEST_F(GroupNormTest, SiluAfterTheNormMatchesReferenceAndFiniteDifferences) {
     ops::groupNormForward(stream, x, gamma, beta, t.groups, eps, y, stats, ops::NormActivation::Silu);
     ops::groupNormBackward(stream, x, gamma, beta, stats, t.groups, gy, gx, ggamma, gbeta, ops::NormActivation::Silu);
     stream.submit();
-    const Layout l = layoutOf(t.shape, t.groups);
+    const GroupNormLayout l = groupNormLayout(t.shape, t.groups);
     const auto dx = toDouble(in.x), dgamma = toDouble(in.gamma), dbeta = toDouble(in.beta), dg = toDouble(g);
-    EXPECT_TRUE(allClose(y, referenceSilu(dx, dgamma, dbeta, l, eps), {5e-5, 2e-5}));
+    EXPECT_TRUE(allClose(y, groupNormSiluReference(dx, dgamma, dbeta, l, eps), {5e-5, 2e-5}));
     // the norm's gradient of gz = gy SiLU'(z), z the reference norm output
-    std::vector<double> gz = reference(dx, dgamma, dbeta, l, eps);
+    std::vector<double> gz = groupNormReference(dx, dgamma, dbeta, l, eps);
     for (std::size_t i = 0; i < gz.size(); ++i) {
       const double s = 1.0 / (1.0 + std::exp(-gz[i]));
       gz[i] = dg[i] * s * (1.0 + gz[i] * (1.0 - s));
@@ -239,11 +207,14 @@ TEST_F(GroupNormTest, SiluAfterTheNormMatchesReferenceAndFiniteDifferences) {
     EXPECT_TRUE(allClose(ggamma, expected.gamma, {1e-3, 1e-4}));
     EXPECT_TRUE(allClose(gbeta, expected.beta, {1e-3, 1e-4}));
     if (numElements(t.shape) > 1000) continue;  // finite differences on the small shapes
-    EXPECT_TRUE(allClose(gx, numericVjp([&](auto p) { return referenceSilu(p, dgamma, dbeta, l, eps); }, dx, dg),
+    EXPECT_TRUE(allClose(gx,
+                         numericVjp([&](auto p) { return groupNormSiluReference(p, dgamma, dbeta, l, eps); }, dx, dg),
                          {2e-4, 1e-4}));
-    EXPECT_TRUE(allClose(ggamma, numericVjp([&](auto p) { return referenceSilu(dx, p, dbeta, l, eps); }, dgamma, dg),
+    EXPECT_TRUE(allClose(ggamma,
+                         numericVjp([&](auto p) { return groupNormSiluReference(dx, p, dbeta, l, eps); }, dgamma, dg),
                          {2e-4, 1e-4}));
-    EXPECT_TRUE(allClose(gbeta, numericVjp([&](auto p) { return referenceSilu(dx, dgamma, p, l, eps); }, dbeta, dg),
+    EXPECT_TRUE(allClose(gbeta,
+                         numericVjp([&](auto p) { return groupNormSiluReference(dx, dgamma, p, l, eps); }, dbeta, dg),
                          {2e-4, 1e-4}));
   }
 }
@@ -264,7 +235,8 @@ TEST_F(GroupNormTest, SiluAfterTheNormAgreesWithTheNormThenTheActivation) {
       Stream stream(context());
       Tape tape(stream);
       const int groups = static_cast<int>(t.groups);
-      Var y = fused ? fn::groupNormSilu(tape, x, gamma, beta, groups) : fn::silu(tape, fn::groupNorm(tape, x, gamma, beta, groups));
+      Var y = fused ? fn::groupNormSilu(tape, x, gamma, beta, groups)
+                    : fn::silu(tape, fn::groupNorm(tape, x, gamma, beta, groups));
       tape.backward({{y, upstream}});
       stream.submit();
       results[fused] = {y->value.download(), x->grad.download(), gamma->grad.download(), beta->grad.download()};
@@ -286,7 +258,8 @@ TEST_F(GroupNormTest, AbsentParametersMeanNoAffineAndBadShapesAreErrors) {
   Var y = fn::groupNorm(tape, x, nullptr, nullptr, 2);
   stream.submit();
   const std::vector<double> ones(4, 1.0), zeros(4, 0.0);
-  EXPECT_TRUE(allClose(y->value, reference(toDouble(in.x), ones, zeros, layoutOf(shape, 2), 1e-5), {2e-5, 2e-5}));
+  EXPECT_TRUE(allClose(y->value, groupNormReference(toDouble(in.x), ones, zeros, groupNormLayout(shape, 2), 1e-5),
+                       {2e-5, 2e-5}));
   EXPECT_THROW(fn::groupNorm(tape, x, nullptr, nullptr, 3), Error);
   Var wrongGamma = variable(Tensor::fromHost(context(), {3}, std::vector<float>{1, 1, 1}));
   EXPECT_THROW(fn::groupNorm(tape, x, wrongGamma, nullptr, 2), Error);
@@ -303,9 +276,10 @@ TEST_F(GroupNormTest, RunsThroughSmokesvdOp) {
                                   {"grad_y", io::NpyArray::fromFloats(shape, g)}},
                                  {"y", "grad_x", "grad_gamma", "grad_beta"}, {"groups=2", "eps=1e-3"});
   ASSERT_EQ(run.exitCode, 0) << run.err;
-  const Layout l = layoutOf(shape, 2);
+  const GroupNormLayout l = groupNormLayout(shape, 2);
   const auto dx = toDouble(in.x), dgamma = toDouble(in.gamma), dbeta = toDouble(in.beta);
-  EXPECT_TRUE(allClose(run.outputs.at("y").floats, reference(dx, dgamma, dbeta, l, 1e-3), shape, {2e-5, 2e-5}));
+  EXPECT_TRUE(
+      allClose(run.outputs.at("y").floats, groupNormReference(dx, dgamma, dbeta, l, 1e-3), shape, {2e-5, 2e-5}));
   const Gradients expected = analyticBackward(dx, dgamma, toDouble(g), l, 1e-3);
   EXPECT_TRUE(allClose(run.outputs.at("grad_x").floats, expected.x, shape, {1e-4, 1e-4}));
   EXPECT_TRUE(allClose(run.outputs.at("grad_gamma").floats, expected.gamma, {4}, {1e-4, 1e-4}));

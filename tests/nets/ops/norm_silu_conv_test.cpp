@@ -3,8 +3,6 @@
 // plain double references run on the normalised, activated input, and against the two ops it replaces.
 #include <gtest/gtest.h>
 
-#include <cmath>
-
 #include "nets/functional/conv.h"
 #include "nets/functional/group_norm.h"
 #include "nets/functional/norm_silu_conv.h"
@@ -16,6 +14,7 @@
 #include "tests/harness/gradcheck.h"
 #include "tests/harness/random.h"
 #include "tests/nets/ops/conv_reference.h"
+#include "tests/nets/ops/group_norm_reference.h"
 
 namespace smokesvd::testing {
 namespace {
@@ -41,31 +40,6 @@ Operand operand(Context& context, const Shape& shape, uint64_t seed, float lo = 
   return o;
 }
 
-// SiLU(F.group_norm(x, groups, gamma, beta, eps)) in double.
-std::vector<double> normSiluReference(std::span<const double> x, const Shape& shape, std::span<const double> gamma,
-                                      std::span<const double> beta, int64_t groups, double eps) {
-  const int64_t channels = shape[1], plane = numElements(shape) / (shape[0] * shape[1]);
-  const int64_t groupSize = channels / groups * plane;
-  std::vector<double> y(x.size());
-  for (int64_t b = 0; b < shape[0] * groups; ++b) {
-    double mean = 0, var = 0;
-    for (int64_t i = 0; i < groupSize; ++i) mean += x[static_cast<std::size_t>(b * groupSize + i)];
-    mean /= static_cast<double>(groupSize);
-    for (int64_t i = 0; i < groupSize; ++i) {
-      const double d = x[static_cast<std::size_t>(b * groupSize + i)] - mean;
-      var += d * d;
-    }
-    const double rstd = 1.0 / std::sqrt(var / static_cast<double>(groupSize) + eps);
-    for (int64_t i = 0; i < groupSize; ++i) {
-      const std::size_t at = static_cast<std::size_t>(b * groupSize + i);
-      const std::size_t c = static_cast<std::size_t>((b % groups) * (channels / groups) + i / plane);
-      const double z = (x[at] - mean) * rstd * gamma[c] + beta[c];
-      y[at] = z / (1.0 + std::exp(-z));
-    }
-  }
-  return y;
-}
-
 // 2D and 3D, odd and 4-aligned rows (the pad's scalar and vec4 paths), paddings 1 and 2, stride 2, one and
 // several groups; the norm's outputs spread so that SiLU's curve and both tails are reached.
 const Case kCases[] = {{{2, 4, 5, 7}, {3, 4, 3, 3}, {1, 1}, 2},      {{1, 6, 6, 8}, {5, 6, 3, 3}, {1, 2}, 3},
@@ -80,7 +54,8 @@ TEST_F(NormSiluConvTest, ForwardAndWeightGradientMatchTheReferenceOnTheNormalise
     const Operand gamma = operand(context(), {c.x[1]}, 4, 0.5f, 2.5f), beta = operand(context(), {c.x[1]}, 5);
     const Shape yShape = referenceConvOutputShape(c.x, c.w, c.spec);
     const Operand dy = operand(context(), yShape, 6), addend = operand(context(), yShape, 7);
-    const std::vector<double> activated = normSiluReference(x.values, c.x, gamma.values, beta.values, c.groups, kEps);
+    const std::vector<double> activated =
+        groupNormSiluReference(x.values, gamma.values, beta.values, groupNormLayout(c.x, c.groups), kEps);
     const std::vector<double> expectedY = convReference(activated, c.x, w.values, c.w, b.values, c.spec);
     std::vector<double> expectedSum = expectedY;
     for (std::size_t i = 0; i < expectedSum.size(); ++i) expectedSum[i] += addend.values[i];
@@ -158,7 +133,8 @@ TEST_F(NormSiluConvTest, RefusesPointwiseKernelsAndWrongNormShapes) {
   const Tensor w = randomTensor(context(), {2, 4, 3, 3}, 7);
   EXPECT_THROW(ops::convForwardOfNormSilu(stream, x, {&stats, &wrongGamma, &beta, 2}, w, nullptr, nullptr, padded, y),
                Error);
-  EXPECT_THROW(ops::convForwardOfNormSilu(stream, x, {&stats, &gamma, &beta, 3}, w, nullptr, nullptr, padded, y), Error);
+  EXPECT_THROW(ops::convForwardOfNormSilu(stream, x, {&stats, &gamma, &beta, 3}, w, nullptr, nullptr, padded, y),
+               Error);
   ops::convForwardOfNormSilu(stream, x, {&stats, &gamma, &beta, 2}, w, nullptr, nullptr, padded, y);
 }
 
