@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <bit>
 #include <cctype>
+#include <cstdlib>
 #include <cstring>
+#include <thread>
 
 #include "runtime/error.h"
 
@@ -18,6 +20,17 @@ bool hasExtension(const std::vector<VkExtensionProperties>& extensions, const ch
 std::string lower(std::string text) {
   std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
   return text;
+}
+
+// The threads a CPU Vulkan device runs workgroups on: LP_NUM_THREADS where it is a positive number (lavapipe
+// reads it), the host's hardware threads otherwise; at least 1.
+uint32_t cpuDeviceThreads() {
+  if (const char* value = std::getenv("LP_NUM_THREADS"); value != nullptr) {
+    char* end = nullptr;
+    const long threads = std::strtol(value, &end, 10);
+    if (end != value && *end == '\0' && threads > 0) return static_cast<uint32_t>(threads);
+  }
+  return std::max(std::thread::hardware_concurrency(), 1u);
 }
 
 DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
@@ -74,6 +87,7 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
     if ((family.queueFlags & VK_QUEUE_COMPUTE_BIT) && family.timestampValidBits > 0) info.timestamps = true;
   }
   info.timestampPeriodNs = limits.timestampPeriod;
+  if (info.type == VK_PHYSICAL_DEVICE_TYPE_CPU) info.hostThreads = cpuDeviceThreads();
   return info;
 }
 

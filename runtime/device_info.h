@@ -36,6 +36,9 @@ struct DeviceInfo {
   bool pushDescriptor = false;        // VK_KHR_push_descriptor (required)
   bool timestamps = false;            // compute queue can write timestamps
   float timestampPeriodNs = 0;        // nanoseconds per timestamp tick
+  // CPU devices: how many host threads run its workgroups. lavapipe starts one per hardware thread unless
+  // LP_NUM_THREADS says otherwise, and that is what this reads; 0 for every other device type.
+  uint32_t hostThreads = 0;
 
   std::string typeName() const;
   // Workgroup size for kernels that reduce through a shared-memory tree: one subgroup, rounded down to

@@ -18,9 +18,13 @@ constexpr std::array<uint32_t, 3> kGridWorkgroup{8, 1, 1};
 constexpr std::array<uint32_t, 3> kRowWorkgroup{16, 1, 1};
 constexpr uint32_t kDirectWorkgroup = 32;      // lanes along flattened output rows
 constexpr uint32_t kWeightGradWorkgroup = 16;  // lanes along (input channel, kz)
-// The weight gradient splits its reduction over output rows into chunks until about this many
-// invocations run; on a GPU the bias gradient splits its planes the same way.
+// On a GPU the weight gradient splits its reduction over output rows into chunks until about this many
+// invocations run, and the bias gradient splits its planes the same way.
 constexpr int64_t kWeightGradInvocations = 2048;
+// On a CPU device it splits them only until about this many invocations per thread of the device run: each
+// chunk costs its invocations' setup and a partial sum, and two threads are busy with 128 invocations
+// (docs/convolution.md, conv_weight_grad).
+constexpr int64_t kCpuWeightGradInvocationsPerThread = 64;
 constexpr uint32_t kPointwiseWorkgroup = 32;  // lanes along position blocks or segments
 // The pointwise weight gradient splits positions into chunks of at least this many vec4s per lane until
 // about kWeightGradInvocations invocations run.
@@ -98,6 +102,12 @@ void requireBlocking(const ConvBlocking& requested) {
 int fitPixels(int pixels, int64_t width) {
   const uint64_t widest = std::bit_ceil(static_cast<uint64_t>(width));
   return static_cast<int>(std::min<uint64_t>(static_cast<uint64_t>(pixels), widest));
+}
+
+// How many invocations the weight gradient's chunks aim for on this device.
+int64_t weightGradInvocations(const DeviceInfo& device) {
+  if (device.type != VK_PHYSICAL_DEVICE_TYPE_CPU) return kWeightGradInvocations;
+  return kCpuWeightGradInvocationsPerThread * std::max<int64_t>(device.hostThreads, 1);
 }
 
 }  // namespace
@@ -260,11 +270,12 @@ void weightGrad(Stream& stream, const ConvGeometry& g, const Padded& xp, const T
   const int64_t rows = g.batch * g.output[0] * g.output[1];
   const int64_t lanes = g.inChannels * g.kernel[0];
   const int64_t baseInvocations = roundUp(lanes, kWeightGradWorkgroup) * kBlocks;
+  const int64_t invocations = weightGradInvocations(stream.context().info());
   // At least enough chunks that no invocation loops over more than the loop budget of positions.
   const int64_t budgetChunks = (rows * xBlocks + static_cast<int64_t>(kLoopIterationBudget) - 1) /
                                static_cast<int64_t>(kLoopIterationBudget);
   const int64_t wantedChunks =
-      std::clamp<int64_t>(std::max(kWeightGradInvocations / baseInvocations, budgetChunks), 1, rows);
+      std::clamp<int64_t>(std::max(invocations / baseInvocations, budgetChunks), 1, rows);
   const int64_t rowsPerChunk = (rows + wantedChunks - 1) / wantedChunks;
   const int64_t chunks = (rows + rowsPerChunk - 1) / rowsPerChunk;
   const Tensor partial = chunks == 1 ? dw : Tensor(stream.context(), {chunks * dw.numel()});
