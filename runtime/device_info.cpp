@@ -22,17 +22,6 @@ std::string lower(std::string text) {
   return text;
 }
 
-// The threads a CPU Vulkan device runs workgroups on: LP_NUM_THREADS where it is a positive number (lavapipe
-// reads it), the host's hardware threads otherwise; at least 1.
-uint32_t cpuDeviceThreads() {
-  if (const char* value = std::getenv("LP_NUM_THREADS"); value != nullptr) {
-    char* end = nullptr;
-    const long threads = std::strtol(value, &end, 10);
-    if (end != value && *end == '\0' && threads > 0) return static_cast<uint32_t>(threads);
-  }
-  return std::max(std::thread::hardware_concurrency(), 1u);
-}
-
 DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
   VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
   VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES, &subgroup};
@@ -92,6 +81,15 @@ DeviceInfo describe(VkPhysicalDevice device, uint32_t index) {
 }
 
 }  // namespace
+
+uint32_t cpuDeviceThreads() {
+  if (const char* value = std::getenv("LP_NUM_THREADS"); value != nullptr) {
+    char* end = nullptr;
+    const long threads = std::strtol(value, &end, 10);
+    if (end != value && *end == '\0' && threads > 0) return static_cast<uint32_t>(threads);
+  }
+  return std::max(std::thread::hardware_concurrency(), 1u);
+}
 
 std::string DeviceInfo::typeName() const {
   switch (type) {

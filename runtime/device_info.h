@@ -54,6 +54,10 @@ struct DeviceInfo {
   int preferenceRank() const;
 };
 
+// The threads a CPU Vulkan device runs workgroups on (DeviceInfo::hostThreads): LP_NUM_THREADS where it is a
+// positive number (lavapipe reads it), the host's hardware threads otherwise; at least 1.
+uint32_t cpuDeviceThreads();
+
 // Reads every physical device the instance sees.
 std::vector<DeviceInfo> queryDevices(VkInstance instance);
 

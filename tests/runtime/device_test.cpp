@@ -1,5 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+#include <thread>
+
 #include "runtime/device_info.h"
 #include "runtime/error.h"
 
@@ -49,6 +54,21 @@ TEST(DeviceChoice, UnknownDeviceListsTheAvailableOnes) {
   }
   EXPECT_THROW(chooseDevice(fakeDevices(), "7"), Error);
   EXPECT_THROW(chooseDevice({}, ""), Error);
+}
+
+TEST(DeviceThreads, LpNumThreadsWhereSetTheHardwareThreadsOtherwise) {
+  const char* saved = std::getenv("LP_NUM_THREADS");
+  const std::string previous = saved != nullptr ? saved : "";
+  setenv("LP_NUM_THREADS", "3", 1);
+  EXPECT_EQ(cpuDeviceThreads(), 3u);
+  const uint32_t hardware = std::max(std::thread::hardware_concurrency(), 1u);
+  for (const char* unusable : {"0", "-2", "many", "4x", ""}) {
+    setenv("LP_NUM_THREADS", unusable, 1);
+    EXPECT_EQ(cpuDeviceThreads(), hardware) << "LP_NUM_THREADS='" << unusable << "'";
+  }
+  unsetenv("LP_NUM_THREADS");
+  EXPECT_EQ(cpuDeviceThreads(), hardware);
+  if (saved != nullptr) setenv("LP_NUM_THREADS", previous.c_str(), 1);
 }
 
 }  // namespace
