@@ -21,15 +21,18 @@ Var convolution(Tape& tape, const Var& x, const Var& w, const Var& bias, const o
                                   : ops::convOutputShape(x->value.shape(), w->value.shape(), params);
   Tensor y(tape.context(), yShape);
   const Tensor* b = bias ? &bias->value : nullptr;
+  // A convolution whose weight learns keeps its padded input for the weight gradient.
+  ops::PaddedInput padded;
+  ops::PaddedInput* keep = w->requiresGrad && tape.gradEnabled() ? &padded : nullptr;
   if (transposed)
     ops::convTransposeForward(tape.stream(), x->value, w->value, b, params, y);
   else if (addend)
-    ops::convForwardPlus(tape.stream(), x->value, w->value, b, addend->value, params, y);
+    ops::convForwardPlus(tape.stream(), x->value, w->value, b, addend->value, params, y, {}, keep);
   else
-    ops::convForward(tape.stream(), x->value, w->value, b, params, y);
+    ops::convForward(tape.stream(), x->value, w->value, b, params, y, {}, keep);
   Var out = tape.output(y, {x, w, bias, addend});
   if (!out->requiresGrad) return out;
-  tape.record({out}, [x, w, bias, addend, out, params, transposed](Tape& t) {
+  tape.record({out}, [x, w, bias, addend, out, params, transposed, padded](Tape& t) {
     const Tensor g = t.grad(out);
     if (addend && addend->requiresGrad) t.accumulate(addend, g);
     if (x->requiresGrad && transposed) {
@@ -46,7 +49,7 @@ Var convolution(Tape& tape, const Var& x, const Var& w, const Var& bias, const o
       if (transposed)
         ops::convTransposeBackwardWeight(t.stream(), x->value, g, params, dw);
       else
-        ops::convBackwardWeight(t.stream(), x->value, g, params, dw);
+        ops::convBackwardWeight(t.stream(), x->value, g, params, dw, {}, &padded);
       t.accumulate(w, dw);
     }
     if (bias && bias->requiresGrad) {

@@ -13,17 +13,20 @@ Var convOfGroupNormSilu(Tape& tape, const Var& x, const Var& gamma, const Var& b
   Tensor stats(tape.context(), {s.batch * groups, 2});
   ops::groupNormStats(tape.stream(), x->value, groups, eps, stats);
   Tensor y(tape.context(), ops::convOutputShape(x->value.shape(), w->value.shape(), params));
-  ops::convForwardOfNormSilu(tape.stream(), x->value, {&stats, &gamma->value, &beta->value, groups}, w->value, bias ? &bias->value : nullptr,
-                             addend ? &addend->value : nullptr, params, y);
+  // A convolution whose weight learns keeps its normalised, activated, padded input for the weight gradient.
+  ops::PaddedInput padded;
+  ops::PaddedInput* keep = w->requiresGrad && tape.gradEnabled() ? &padded : nullptr;
+  ops::convForwardOfNormSilu(tape.stream(), x->value, {&stats, &gamma->value, &beta->value, groups}, w->value,
+                             bias ? &bias->value : nullptr, addend ? &addend->value : nullptr, params, y, {}, keep);
   Var out = tape.output(y, {x, gamma, beta, w, bias, addend});
   if (!out->requiresGrad) return out;
-  tape.record({out}, [x, gamma, beta, groups, w, bias, addend, params, stats, out](Tape& t) {
+  tape.record({out}, [x, gamma, beta, groups, w, bias, addend, params, stats, out, padded](Tape& t) {
     const Tensor g = t.grad(out);
     const ops::NormSiluInput norm{&stats, &gamma->value, &beta->value, groups};
     if (addend && addend->requiresGrad) t.accumulate(addend, g);
     if (w->requiresGrad) {
       Tensor dw(t.context(), w->value.shape());
-      ops::convBackwardWeightOfNormSilu(t.stream(), x->value, norm, g, params, dw);
+      ops::convBackwardWeightOfNormSilu(t.stream(), x->value, norm, g, params, dw, {}, &padded);
       t.accumulate(w, dw);
     }
     if (bias && bias->requiresGrad) {

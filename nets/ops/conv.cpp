@@ -78,7 +78,7 @@ void pointwise(Stream& stream, const ConvGeometry& g, const Tensor& x, const Ten
 // the conv's stride.
 void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& w, const Tensor* bias,
              const Tensor& y, ConvBlocking blocking, const conv::PadActivation& activation,
-             const Tensor* addend = nullptr) {
+             const Tensor* addend = nullptr, PaddedInput* keep = nullptr) {
   if (conv::isPointwise(g))
     return pointwise(stream, g, x, w, bias, y, blocking, false, activation.inputSlope, {.addend = addend});
   const ConvBlocking chosen =
@@ -88,6 +88,7 @@ void forward(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tenso
   const Int3 size{(g.output[0] - 1) * g.stride + g.kernel[0], (g.output[1] - 1) * g.stride + g.kernel[1],
                   (xBlocks * pixels - 1) * g.stride + g.kernel[2]};
   const conv::Padded xp = conv::pad(stream, conv::as5d(x), g.padding, size, activation);
+  if (keep != nullptr) *keep = {xp.tensor, xp.size};
 
   conv::WeightPacking packing;
   packing.outChannels = g.outChannels;
@@ -170,15 +171,26 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
   }
 }
 
+// The forward's kept copy where it holds every value the weight gradient reads (`size`, the width rounded
+// up as conv::pad rounds it), a new padded copy of f(x) otherwise.
+conv::Padded paddedForWeightGradient(Stream& stream, const ConvGeometry& g, const Tensor& x, const Int3& size,
+                                     const conv::PadActivation& activation, const PaddedInput* kept) {
+  const Int3 needed{size[0], size[1], conv::roundUp(size[2], 4)};
+  if (kept != nullptr && kept->tensor.defined() && kept->size[0] >= needed[0] && kept->size[1] >= needed[1] &&
+      kept->size[2] >= needed[2])
+    return {kept->tensor, g.batch, g.inChannels, kept->size};
+  return conv::pad(stream, conv::as5d(x), g.padding, size, activation);
+}
+
 void weightGradient(Stream& stream, const ConvGeometry& g, const Tensor& x, const Tensor& dy, const Tensor& dw,
-                    ConvBlocking blocking, const conv::PadActivation& activation) {
+                    ConvBlocking blocking, const conv::PadActivation& activation, const PaddedInput* kept) {
   if (conv::isPointwise(g)) return conv::pointwiseWeightGrad(stream, x, dy, dw, activation.inputSlope);
   const ConvBlocking chosen = conv::weightGradBlocking(stream.context().info(), blocking, g.output[2], g.outChannels);
   const int pixels = chosen.pixels, channelVec4s = chosen.channelVec4s;
   const int64_t paddedWidth = conv::roundUp(g.output[2], pixels);
   const Int3 size{(g.output[0] - 1) * g.stride + g.kernel[0], (g.output[1] - 1) * g.stride + g.kernel[1],
                   (paddedWidth - 1) * g.stride + g.kernel[2]};
-  const conv::Padded xp = conv::pad(stream, conv::as5d(x), g.padding, size, activation);
+  const conv::Padded xp = paddedForWeightGradient(stream, g, x, size, activation, kept);
   const Tensor rows = conv::packGrad(stream, conv::as5d(dy), paddedWidth,
                                      conv::roundUp(g.outChannels, 4 * static_cast<int64_t>(channelVec4s)));
   conv::weightGrad(stream, g, xp, rows, dw, pixels, channelVec4s);
@@ -210,22 +222,22 @@ Shape convTransposeOutputShape(const Shape& x, const Shape& w, const ConvParams&
 }
 
 void convForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias, const ConvParams& params,
-                 const Tensor& y, ConvBlocking blocking) {
+                 const Tensor& y, ConvBlocking blocking, PaddedInput* keep) {
   const char* op = "conv forward";
   const ConvGeometry g = conv::convGeometry(op, x.shape(), w.shape(), params);
   conv::requireShape(op, "output", y.shape(), g.outputShape());
   requireBias(op, bias, g.outChannels);
-  forward(stream, g, x, w, bias, y, blocking, {.inputSlope = params.inputSlope});
+  forward(stream, g, x, w, bias, y, blocking, {.inputSlope = params.inputSlope}, nullptr, keep);
 }
 
 void convForwardPlus(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias, const Tensor& addend,
-                     const ConvParams& params, const Tensor& y, ConvBlocking blocking) {
+                     const ConvParams& params, const Tensor& y, ConvBlocking blocking, PaddedInput* keep) {
   const char* op = "conv forward plus";
   const ConvGeometry g = conv::convGeometry(op, x.shape(), w.shape(), params);
   conv::requireShape(op, "output", y.shape(), g.outputShape());
   conv::requireShape(op, "addend", addend.shape(), g.outputShape());
   requireBias(op, bias, g.outChannels);
-  forward(stream, g, x, w, bias, y, blocking, {.inputSlope = params.inputSlope}, &addend);
+  forward(stream, g, x, w, bias, y, blocking, {.inputSlope = params.inputSlope}, &addend, keep);
 }
 
 void convBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const ConvParams& params, const Tensor& dx,
@@ -249,32 +261,33 @@ void convBackwardActivatedInput(Stream& stream, const Tensor& dy, const Tensor& 
 }
 
 void convBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const ConvParams& params, const Tensor& dw,
-                        ConvBlocking blocking) {
+                        ConvBlocking blocking, const PaddedInput* padded) {
   const char* op = "conv backward weight";
   const ConvGeometry g = conv::convGeometry(op, x.shape(), dw.shape(), params);
   conv::requireShape(op, "output gradient", dy.shape(), g.outputShape());
-  weightGradient(stream, g, x, dy, dw, blocking, {.inputSlope = params.inputSlope});
+  weightGradient(stream, g, x, dy, dw, blocking, {.inputSlope = params.inputSlope}, padded);
 }
 
 void convForwardOfNormSilu(Stream& stream, const Tensor& x, const NormSiluInput& norm, const Tensor& w,
                            const Tensor* bias, const Tensor* addend, const ConvParams& params, const Tensor& y,
-                           ConvBlocking blocking) {
+                           ConvBlocking blocking, PaddedInput* keep) {
   const char* op = "conv forward of norm silu";
   const ConvGeometry g = conv::convGeometry(op, x.shape(), w.shape(), params);
   conv::requireShape(op, "output", y.shape(), g.outputShape());
   if (addend != nullptr) conv::requireShape(op, "addend", addend->shape(), g.outputShape());
   requireBias(op, bias, g.outChannels);
   requireNormSilu(op, g, norm, params);
-  forward(stream, g, x, w, bias, y, blocking, {.norm = &norm}, addend);
+  forward(stream, g, x, w, bias, y, blocking, {.norm = &norm}, addend, keep);
 }
 
 void convBackwardWeightOfNormSilu(Stream& stream, const Tensor& x, const NormSiluInput& norm, const Tensor& dy,
-                                  const ConvParams& params, const Tensor& dw, ConvBlocking blocking) {
+                                  const ConvParams& params, const Tensor& dw, ConvBlocking blocking,
+                                  const PaddedInput* padded) {
   const char* op = "conv backward weight of norm silu";
   const ConvGeometry g = conv::convGeometry(op, x.shape(), dw.shape(), params);
   conv::requireShape(op, "output gradient", dy.shape(), g.outputShape());
   requireNormSilu(op, g, norm, params);
-  weightGradient(stream, g, x, dy, dw, blocking, {.norm = &norm});
+  weightGradient(stream, g, x, dy, dw, blocking, {.norm = &norm}, padded);
 }
 
 void convBackwardBias(Stream& stream, const Tensor& dy, const Tensor& db) {
@@ -312,7 +325,7 @@ void convTransposeBackwardWeight(Stream& stream, const Tensor& x, const Tensor& 
   requireNoInputActivation(op, params);
   const ConvGeometry g = conv::convGeometry(op, dy.shape(), dw.shape(), params);
   conv::requireShape(op, "input", x.shape(), g.outputShape());
-  weightGradient(stream, g, dy, x, dw, blocking, {});
+  weightGradient(stream, g, dy, x, dw, blocking, {}, nullptr);
 }
 
 }  // namespace smokesvd::ops

@@ -7,6 +7,9 @@
 // See docs/convolution.md for the kernels and their blocking.
 #pragma once
 
+#include <array>
+#include <cstdint>
+
 #include "runtime/stream.h"
 #include "runtime/tensor.h"
 
@@ -47,16 +50,28 @@ struct NormSiluInput {
   int64_t groups = 1;
 };
 
+// A convolution's input as its forward pass copied it into zero-padded form, through the activation the
+// convolution reads it with, kept so that the weight gradient reads it instead of making the copy again
+// (convForward's `keep`, convBackwardWeight's `padded`). Its tensor is undefined where the forward made no
+// copy (a pointwise convolution). A kept copy too small for the weight gradient's blocking (on a device
+// whose direct pass runs shorter rows) is not used; the weight gradient then pads x itself.
+struct PaddedInput {
+  Tensor tensor;                  // [N, C, size], flat, with four floats of slack
+  std::array<int64_t, 3> size{};  // along z, y, x
+};
+
 Shape convOutputShape(const Shape& x, const Shape& w, const ConvParams& params);
 Shape convTransposeOutputShape(const Shape& x, const Shape& w, const ConvParams& params);
 
-// y = conv(f(x), w) + b, f the leaky ReLU of params.inputSlope (none at 1)
+// y = conv(f(x), w) + b, f the leaky ReLU of params.inputSlope (none at 1); given `keep`, the padded f(x) is
+// left there for convBackwardWeight.
 void convForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias, const ConvParams& params,
-                 const Tensor& y, ConvBlocking blocking = {});
+                 const Tensor& y, ConvBlocking blocking = {}, PaddedInput* keep = nullptr);
 // y = addend + conv(f(x), w) + b: convForward with a tensor of y's shape added as y is written (a residual
 // connection, without a pass of its own). Its gradients are convForward's, and dy itself for the addend.
 void convForwardPlus(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias, const Tensor& addend,
-                     const ConvParams& params, const Tensor& y, ConvBlocking blocking = {});
+                     const ConvParams& params, const Tensor& y, ConvBlocking blocking = {},
+                     PaddedInput* keep = nullptr);
 // dx = d<dy, conv(x, w)>/dx: a transposed convolution of dy (dx's shape says the input size); params.inputSlope
 // must be 1 (see convBackwardActivatedInput).
 void convBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const ConvParams& params,
@@ -67,9 +82,10 @@ void convBackwardInput(Stream& stream, const Tensor& dy, const Tensor& w, const 
 void convBackwardActivatedInput(Stream& stream, const Tensor& dy, const Tensor& w, const Tensor& x,
                                 const ConvParams& params, const Tensor& dx, const Tensor* addend = nullptr,
                                 ConvBlocking blocking = {});
-// dw = d<dy, conv(f(x), w)>/dw (f as in convForward)
+// dw = d<dy, conv(f(x), w)>/dw (f as in convForward), reading `padded` (the forward's kept copy of f(x)) where
+// given and large enough.
 void convBackwardWeight(Stream& stream, const Tensor& x, const Tensor& dy, const ConvParams& params,
-                        const Tensor& dw, ConvBlocking blocking = {});
+                        const Tensor& dw, ConvBlocking blocking = {}, const PaddedInput* padded = nullptr);
 // db[k] = sum of dy over the batch and every position of channel k (conv and transposed conv alike).
 void convBackwardBias(Stream& stream, const Tensor& dy, const Tensor& db);
 
@@ -78,10 +94,12 @@ void convBackwardBias(Stream& stream, const Tensor& dy, const Tensor& db);
 // gradient at f(x)) through groupNormBackward with NormActivation::Silu.
 void convForwardOfNormSilu(Stream& stream, const Tensor& x, const NormSiluInput& norm, const Tensor& w,
                            const Tensor* bias, const Tensor* addend, const ConvParams& params, const Tensor& y,
-                           ConvBlocking blocking = {});
-// dw = d<dy, conv(f(x), w)>/dw, f as in convForwardOfNormSilu.
+                           ConvBlocking blocking = {}, PaddedInput* keep = nullptr);
+// dw = d<dy, conv(f(x), w)>/dw, f as in convForwardOfNormSilu (the forward's kept copy `padded` read where given
+// and large enough).
 void convBackwardWeightOfNormSilu(Stream& stream, const Tensor& x, const NormSiluInput& norm, const Tensor& dy,
-                                  const ConvParams& params, const Tensor& dw, ConvBlocking blocking = {});
+                                  const ConvParams& params, const Tensor& dw, ConvBlocking blocking = {},
+                                  const PaddedInput* padded = nullptr);
 
 // y = convTranspose(x, w) + b, the adjoint of conv with the same weight (weight [Cin, Cout, k...]).
 void convTransposeForward(Stream& stream, const Tensor& x, const Tensor& w, const Tensor* bias,

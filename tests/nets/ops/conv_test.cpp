@@ -340,6 +340,61 @@ TEST_F(ConvTest, InputThroughLeakyReluAndAddendMatchTheReferenceOnTheActivatedIn
   }
 }
 
+// The weight gradient reads the padded copy of f(x) its forward kept (ops::PaddedInput) instead of padding x
+// again: the same sums bit for bit, one dispatch fewer. The forward's rows of 16 pixels always cover the weight
+// gradient's rows of 8; a copy made for rows of 1 pixel is narrower than they are for these output widths
+// (9, 5, 9, 6: rounded up to 8 they pass the copy's width) and is not used. A pointwise convolution keeps nothing.
+TEST_F(ConvTest, WeightGradientReadsThePaddingItsForwardKept) {
+  for (const Case& c : {Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {1, 1}}, Case{{2, 3, 7, 9}, {5, 3, 3, 3}, {2, 1}},
+                        Case{{1, 3, 5, 6, 9}, {4, 3, 3, 3, 3}, {1, 1}}, Case{{1, 2, 6, 5, 12}, {3, 2, 3, 3, 3}, {2, 1}}}) {
+    for (const float slope : {1.0f, 0.2f}) {
+      SCOPED_TRACE(describe(c) + " input slope " + std::to_string(slope));
+      const Operand x = operand(context(), c.x, 21), w = operand(context(), c.w, 22);
+      const Shape yShape = referenceConvOutputShape(c.x, c.w, c.spec);
+      const Operand dy = operand(context(), yShape, 23);
+      ops::ConvParams through = params(c.spec);
+      through.inputSlope = slope;
+      std::vector<double> activated = x.values;
+      for (double& v : activated) v = v > 0 ? v : slope * v;
+      const std::vector<double> expected = convWeightGradReference(activated, c.x, dy.values, c.w, c.spec);
+
+      auto weightGradient = [&](const ops::PaddedInput* kept, uint32_t* dispatches) {
+        Tensor dw = poisonedTensor(context(), c.w);
+        Stream stream(context());
+        ops::convBackwardWeight(stream, x.tensor, dy.tensor, through, dw, {}, kept);
+        *dispatches = stream.dispatchCount();
+        stream.submit();
+        return dw.download();
+      };
+      uint32_t fresh = 0, reused = 0, narrow = 0;
+      const std::vector<float> padsAgain = weightGradient(nullptr, &fresh);
+
+      ops::PaddedInput kept, narrowKept;
+      Tensor y = poisonedTensor(context(), yShape);
+      Stream forward(context());
+      ops::convForward(forward, x.tensor, w.tensor, nullptr, through, y, ops::ConvBlocking{16, 1}, &kept);
+      ops::convForward(forward, x.tensor, w.tensor, nullptr, through, y, ops::ConvBlocking{1, 1}, &narrowKept);
+      forward.submit();
+      ASSERT_TRUE(kept.tensor.defined());
+      const std::vector<float> fromKept = weightGradient(&kept, &reused);
+      EXPECT_EQ(fromKept, padsAgain) << "the kept copy gives other sums";
+      EXPECT_EQ(reused + 1, fresh) << "the kept copy was not read";
+      EXPECT_TRUE(allClose(fromKept, expected, c.w, kTolerance));
+
+      const std::vector<float> fromNarrow = weightGradient(&narrowKept, &narrow);
+      EXPECT_EQ(narrow, fresh) << "a copy too narrow was read";
+      EXPECT_EQ(fromNarrow, padsAgain);
+    }
+  }
+  const Operand x = operand(context(), {1, 6, 4, 8}, 24), w = operand(context(), {3, 6, 1, 1}, 25);
+  Tensor y = poisonedTensor(context(), {1, 3, 4, 8});
+  ops::PaddedInput kept;
+  Stream stream(context());
+  ops::convForward(stream, x.tensor, w.tensor, nullptr, {}, y, {}, &kept);
+  stream.submit();
+  EXPECT_FALSE(kept.tensor.defined()) << "a pointwise convolution pads nothing";
+}
+
 // The bias gradient against a sum in double, on planes with and without a multiple of 4 positions, and on
 // planes long enough that a lane's share passes the loop budget, so that the plane is split into chunks.
 TEST_F(ConvTest, BiasGradientOnShortAndLongPlanes) {

@@ -64,17 +64,25 @@ TEST_F(NormSiluConvTest, ForwardAndWeightGradientMatchTheReferenceOnTheNormalise
     const ops::ConvParams params{c.spec.stride, c.spec.padding};
     Tensor stats = poisonedTensor(context(), {c.x[0] * c.groups, 2});
     Tensor y = poisonedTensor(context(), yShape), sum = poisonedTensor(context(), yShape);
-    Tensor dw = poisonedTensor(context(), c.w);
+    Tensor dw = poisonedTensor(context(), c.w), dwFromKept = poisonedTensor(context(), c.w);
     Stream stream(context());
     ops::groupNormStats(stream, x.tensor, c.groups, kEps, stats);
     const ops::NormSiluInput norm{&stats, &gamma.tensor, &beta.tensor, c.groups};
-    ops::convForwardOfNormSilu(stream, x.tensor, norm, w.tensor, &b.tensor, nullptr, params, y);
+    ops::PaddedInput kept;
+    ops::convForwardOfNormSilu(stream, x.tensor, norm, w.tensor, &b.tensor, nullptr, params, y, {}, &kept);
     ops::convForwardOfNormSilu(stream, x.tensor, norm, w.tensor, &b.tensor, &addend.tensor, params, sum);
+    const uint32_t start = stream.dispatchCount();
     ops::convBackwardWeightOfNormSilu(stream, x.tensor, norm, dy.tensor, params, dw);
+    const uint32_t between = stream.dispatchCount();
+    ops::convBackwardWeightOfNormSilu(stream, x.tensor, norm, dy.tensor, params, dwFromKept, {}, &kept);
+    const uint32_t padsAgain = between - start, fromKept = stream.dispatchCount() - between;
     stream.submit();
     EXPECT_TRUE(allClose(y, expectedY, {1e-4, 1e-4})) << "forward";
     EXPECT_TRUE(allClose(sum, expectedSum, {1e-4, 1e-4})) << "forward plus an addend";
     EXPECT_TRUE(allClose(dw, expectedDw, {1e-4, 1e-4})) << "weight gradient";
+    // From the forward's kept normalised, activated, padded input (ops::PaddedInput): the same bits, no copy.
+    EXPECT_EQ(dwFromKept.download(), dw.download()) << "weight gradient from the kept padding";
+    EXPECT_EQ(fromKept + 1, padsAgain) << "the weight gradient padded x again";
   }
 }
 
