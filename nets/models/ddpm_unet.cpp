@@ -128,12 +128,14 @@ Var DdpmUNet::forward(Tape& tape, const Var& x, const Var& t) {
                 std::to_string(x->value.size(0)));
 
   const Var temb = temb1_->forward(tape, fn::silu(tape, temb0_->forward(tape, fn::timestepEmbedding(tape, t, c.channels))));
+  // Every block projects SiLU(temb): activated once here.
+  const Var activatedTemb = fn::silu(tape, temb);
   std::vector<Var> skips;
   Var h = convIn_->forward(tape, x);
   skips.push_back(h);
   for (int i = 0; i < levels; ++i) {
     for (const auto& block : downBlocks_[static_cast<std::size_t>(i)]) {
-      h = block->forward(tape, h, temb);
+      h = block->forwardOfActivatedEmbedding(tape, h, activatedTemb);
       skips.push_back(h);
     }
     if (i < levels - 1) {
@@ -141,10 +143,10 @@ Var DdpmUNet::forward(Tape& tape, const Var& x, const Var& t) {
       skips.push_back(h);
     }
   }
-  h = mid2_->forward(tape, mid1_->forward(tape, h, temb), temb);
+  h = mid2_->forwardOfActivatedEmbedding(tape, mid1_->forwardOfActivatedEmbedding(tape, h, activatedTemb), activatedTemb);
   for (int i = levels - 1; i >= 0; --i) {
     for (const auto& block : upBlocks_[static_cast<std::size_t>(i)]) {
-      h = block->forward(tape, fn::concatChannels(tape, {h, skips.back()}), temb);
+      h = block->forwardOfActivatedEmbedding(tape, fn::concatChannels(tape, {h, skips.back()}), activatedTemb);
       skips.pop_back();
     }
     if (i > 0)

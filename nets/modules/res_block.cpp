@@ -23,10 +23,14 @@ ResBlock::ResBlock(Context& context, ResBlockOptions o) {
 }
 
 Var ResBlock::forward(Tape& tape, const Var& x, const Var& temb) {
-  if (tembProj_ && !temb) throw Error("ResBlock: built with a timestep embedding, called without one");
-  if (!tembProj_ && temb) throw Error("ResBlock: called with a timestep embedding it was not built for");
+  return forwardOfActivatedEmbedding(tape, x, temb ? fn::silu(tape, temb) : nullptr);
+}
+
+Var ResBlock::forwardOfActivatedEmbedding(Tape& tape, const Var& x, const Var& activatedTemb) {
+  if (tembProj_ && !activatedTemb) throw Error("ResBlock: built with a timestep embedding, called without one");
+  if (!tembProj_ && activatedTemb) throw Error("ResBlock: called with a timestep embedding it was not built for");
   Var h = conv1_->forwardOfGroupNormSilu(tape, x, *norm1_);
-  if (tembProj_) h = fn::addChannel(tape, h, tembProj_->forward(tape, fn::silu(tape, temb)));
+  if (tembProj_) h = fn::addChannel(tape, h, tembProj_->forward(tape, activatedTemb));
   const Var shortcut = shortcut_ ? shortcut_->forward(tape, x) : x;
   if (dropout_->passesThrough()) return conv2_->forwardOfGroupNormSilu(tape, h, *norm2_, shortcut);
   return conv2_->forwardPlus(tape, dropout_->forward(tape, norm2_->forwardThenSilu(tape, h)), shortcut);

@@ -37,6 +37,9 @@ class ResBlock : public UnaryModule {
   ResBlock(Context& context, ResBlockOptions options);
   // temb [N, tembChannels]; required when the block was built with tembChannels > 0.
   Var forward(Tape& tape, const Var& x, const Var& temb);
+  // The same block given SiLU(temb) instead of temb: a network whose blocks share one embedding activates it
+  // once for all of them (models::DdpmUnet).
+  Var forwardOfActivatedEmbedding(Tape& tape, const Var& x, const Var& activatedTemb);
   Var forward(Tape& tape, const Var& x) override { return forward(tape, x, nullptr); }
 
  private:

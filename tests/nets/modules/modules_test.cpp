@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "nets/functional/activation.h"
 #include "nets/functional/conv.h"
 #include "nets/functional/dropout.h"
 #include "nets/functional/elementwise.h"
@@ -332,6 +333,24 @@ TEST_F(ModulesTest, ResBlockWithActiveDropoutIsTheComposition) {
   const Var expected = fn::add(tape, x, fn::conv2d(tape, dropped, parameter("conv2.weight"), parameter("conv2.bias"), same));
   stream.submit();
   EXPECT_TRUE(allClose(y->value, expected->value.download(), {1e-6, 1e-6}));
+}
+
+// A block given SiLU(temb) (as the DDPM UNet gives each of its blocks the one activated embedding) computes
+// what it computes from temb, bit for bit.
+TEST_F(ModulesTest, ResBlockOfTheActivatedEmbeddingEqualsTheBlockOfTheEmbedding) {
+  ResBlock block(context(), {.inChannels = 2, .outChannels = 4, .tembChannels = 8, .groups = 2});
+  block.initialize(5);
+  const Var x = variable(randomTensor(context(), {2, 2, 5, 6}, 6), true);
+  const Var temb = variable(randomTensor(context(), {2, 8}, 7), true);
+  Stream stream(context());
+  Tape tape(stream);
+  const Var fromTemb = block.forward(tape, x, temb);
+  const Var fromActivated = block.forwardOfActivatedEmbedding(tape, x, fn::silu(tape, temb));
+  stream.submit();
+  EXPECT_EQ(fromTemb->value.download(), fromActivated->value.download());
+  ResBlock plain(context(), {.inChannels = 2, .groups = 2});
+  EXPECT_THROW(plain.forwardOfActivatedEmbedding(tape, x, temb), Error);
+  EXPECT_THROW(block.forwardOfActivatedEmbedding(tape, x, nullptr), Error);
 }
 
 TEST_F(ModulesTest, ResBlockChecksItsEmbeddingAndGroups) {
