@@ -192,9 +192,12 @@ TEST_F(ConvTest, BothFetchOrdersGiveBitIdenticalResults) {
 TEST_F(ConvTest, EveryBlockingGivesTheSameWeightGradient) {
   // Includes the CPU and GPU default for wide outputs (8 pixels x 4 vec4s) and the one for 12 channels (8 x 3).
   // The first two shapes split the rows into several chunks on every device; the third, with 130 input channels,
-  // into one on a CPU device of up to 2 threads (the chunks aim at 64 invocations per thread there).
+  // into one on a CPU device of up to 2 threads (the chunks aim at 64 invocations per thread there). The last
+  // two have rows of 16 and 8 outputs, which blocks of 4, 8 and 16 pixels cover exactly (10 and 6 channels: the
+  // last vec4 of channels partly past K).
   for (const Case& c : {Case{{2, 5, 6, 11}, {9, 5, 3, 3}, {1, 1}}, Case{{1, 3, 5, 4, 9}, {10, 3, 3, 3, 3}, {2, 1}},
-                        Case{{1, 130, 5, 6}, {9, 130, 3, 3}, {1, 1}}}) {
+                        Case{{1, 130, 5, 6}, {9, 130, 3, 3}, {1, 1}}, Case{{2, 3, 5, 16}, {10, 3, 3, 3}, {1, 1}},
+                        Case{{1, 2, 3, 4, 15}, {6, 2, 3, 3, 3}, {2, 1}}}) {
     const Operand x = operand(context(), c.x, 10);
     const Shape yShape = referenceConvOutputShape(c.x, c.w, c.spec);
     const Operand dy = operand(context(), yShape, 11);
