@@ -192,16 +192,21 @@ LossTerms SvDiffTrainer::recordInitial(Tape& tape, bool guided, const render::Re
   const Preset& p = data_.preset();
   Var sides, fronts;
   {
+    // Each density's front and side renders [2, 1, H, W], gathered end to end by transfer commands into
+    // [densities, 2, H, W], then the two views sliced out: two dispatches, not one per image.
     NoGrad noGrad(tape);
-    std::vector<Var> side, front;
+    std::vector<Tensor> renders;
+    std::vector<int64_t> offsets;
     for (const Var& density : densities_) {
-      const FrontSide fs = frontSide(tape, density, settings);
-      side.push_back(fs.side);
-      front.push_back(fs.front);
+      offsets.push_back(static_cast<int64_t>(renders.size()) * 2 * p.imageHeight * p.imageWidth);
+      renders.push_back(diff::render(tape, density, frontSideViews_, settings)->value);
     }
+    Tensor gathered(tape.context(), {static_cast<int64_t>(renders.size()), 2, p.imageHeight, p.imageWidth});
+    tape.stream().gather(renders, offsets, gathered);
+    const Var both = variable(gathered);
     const Shape batch{batch_, 2, p.imageHeight, p.imageWidth};
-    sides = fn::reshape(tape, fn::concatChannels(tape, side), batch);
-    fronts = fn::reshape(tape, fn::concatChannels(tape, front), batch);
+    fronts = fn::reshape(tape, fn::sliceChannels(tape, both, 0, 1), batch);
+    sides = fn::reshape(tape, fn::sliceChannels(tape, both, 1, 2), batch);
   }
   const Var clean = networks::toDiffusionRange(tape, sides);
   const Var noisy = diffusion::addNoise(tape, clean, noise_[0], factors_);
