@@ -4,7 +4,7 @@
 // them biases and small weights, would otherwise cost 150 dispatches each, and lavapipe pays 15 to 100
 // microseconds per dispatch where a transfer command costs about one (docs/nn-training.md, "One dispatch
 // for the small parameters"). Tensors of more than kMaxGatheredElements elements stay where they are and
-// get a dispatch of their own: copying them in and out would cost more than the dispatch saves.
+// get a dispatch of their own.
 #pragma once
 
 #include <cstdint>
@@ -19,9 +19,9 @@
 namespace smokesvd::optim {
 
 struct FlatLayout {
-  // 32768 elements: copying a tensor in and out three times at the ~10 GB/s of a lavapipe transfer costs
-  // about as much as the dispatch it saves (docs/nn-training.md).
-  static constexpr int64_t kMaxGatheredElements = 32768;
+  // 131072 elements: on lavapipe a tensor's own three dispatches (norm, AdamW, EMA) cost more than copying it in
+  // and out, up to about this size; past it the update gains nothing (docs/nn-training.md, measured).
+  static constexpr int64_t kMaxGatheredElements = 131072;
 
   std::vector<int64_t> offsets;  // per tensor: the element it starts at in the flat tensor, or -1
   int64_t total = 4;             // the flat tensor's elements: a multiple of 4, at least 4

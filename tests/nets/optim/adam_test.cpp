@@ -51,8 +51,8 @@ class AdamTest : public GpuTest, public ::testing::WithParamInterface<Case> {};
 // gradient between the small ones splits their flat update into two runs; one at the end is a third case.
 TEST_P(AdamTest, TenStepsMatchDoubleReference) {
   const Case& c = GetParam();
-  // {4099} spans 3 workgroups; {40001} is large enough to be updated on its own, the others together.
-  const std::vector<Shape> shapes = {{7}, {3, 5}, {1}, {40001}, {2, 3, 3, 3}, {4099}};
+  // {4099} spans 3 workgroups; {140001} is large enough to be updated on its own, the others together.
+  const std::vector<Shape> shapes = {{7}, {3, 5}, {1}, {140001}, {2, 3, 3, 3}, {4099}};
   NamedParameters parameters;
   std::vector<std::size_t> slot;  // where shapes[i]'s parameter is in `parameters`
   std::vector<AdamReference> references;

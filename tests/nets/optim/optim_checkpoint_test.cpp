@@ -25,7 +25,7 @@ struct Trainer {
 
   Trainer(Context& context, AdamOptions options, uint64_t seed) {
     uint64_t gradientSeed = 100;
-    for (const auto& [name, shape] : {std::pair<std::string, Shape>{"layer.weight", {3, 5}}, {"layer.bias", {3}}, {"big.weight", {3, 11001}}}) {
+    for (const auto& [name, shape] : {std::pair<std::string, Shape>{"layer.weight", {3, 5}}, {"layer.bias", {3}}, {"big.weight", {3, 44001}}}) {
       Var p = variable(randomTensor(context, shape, seed++), true);
       p->grad = randomTensor(context, shape, gradientSeed++);
       parameters.emplace_back(name, p);

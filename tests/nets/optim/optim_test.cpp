@@ -91,7 +91,7 @@ TEST_F(OptimTest, ClippingWithoutGradientsGivesFactorOne) {
 
 TEST_F(OptimTest, EmaFollowsDoubleReference) {
   // Small parameters (averaged together, flat) around a large one (averaged on its own).
-  const std::vector<Shape> shapes = {{7}, {2, 3, 5}, {33001}, {1}};
+  const std::vector<Shape> shapes = {{7}, {2, 3, 5}, {133001}, {1}};
   const double decay = 0.9;
   NamedParameters parameters;
   std::vector<std::vector<double>> shadows;
