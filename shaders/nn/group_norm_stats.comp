@@ -6,15 +6,18 @@
 //                                            small for inputs with a large mean, e.g. 1000 +- 1)
 //   m2_c   = sum (x - mean_c)^2              (second pass over the chunk, which is in cache)
 // and writes partial[b][chunk] = (mean_c, m2_c). group_norm_finalize merges the chunks (Chan et al.).
+// With FINAL (a group of one chunk) it writes what the merge of that one chunk gives instead, the group's
+// statistics stats[b] = (mean, 1 / sqrt(m2 / M + eps)), and no finalize pass runs.
 // VEC4 (constant_id 3): 1 when M % 4 == 0, then x is read as vec4 texels. CHUNK (constant_id 4).
-// Bindings: x (texels), partial (storage, 2 floats per chunk).
+// Bindings: x (texels), partial or stats (storage, 2 floats per chunk or group).
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 layout(constant_id = 3) const int VEC4 = 0;
 layout(constant_id = 4) const int CHUNK = 4096;
+layout(constant_id = 5) const bool FINAL = false;
 
 layout(binding = 0) uniform samplerBuffer x;
 layout(std430, binding = 1) writeonly buffer Partial { vec2 partial[]; };
-layout(push_constant) uniform Push { int groupSize; int chunks; };
+layout(push_constant) uniform Push { int groupSize; int chunks; float eps; };
 
 shared float tree[gl_WorkGroupSize.x];
 
@@ -58,5 +61,13 @@ void main() {
   const float pivot = texelFetch(x, VEC4 != 0 ? begin / 4 : begin).x;
   const float mean = pivot + workgroupSum(localSum(begin, end, pivot, false)) / count;
   const float m2 = workgroupSum(localSum(begin, end, mean, true));
-  if (gl_LocalInvocationID.x == 0u) partial[block * chunks + chunk] = vec2(mean, m2);
+  if (gl_LocalInvocationID.x != 0u) return;
+  if (FINAL) {
+    // group_norm_finalize's merge of a single chunk, step by step: from n = 0, mean 0 and m2 0.
+    const float d = mean - 0.0;
+    const float merged = 0.0 + d * count / count;
+    partial[block] = vec2(merged, 1.0 / sqrt((0.0 + m2 + d * d * 0.0 * count / count) / float(groupSize) + eps));
+    return;
+  }
+  partial[block * chunks + chunk] = vec2(mean, m2);
 }
