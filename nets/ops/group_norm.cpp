@@ -59,15 +59,15 @@ void groupNormStats(Stream& stream, const Tensor& x, int64_t groups, float eps, 
   const int32_t chunks = chunksOf(groupSize);
   const int32_t blocks = static_cast<int32_t>(s.batch * groups);
   // A group of one chunk: the first pass writes the statistics itself.
-  const bool final = chunks == 1;
-  const Tensor partial = final ? stats : Tensor(stream.context(), {blocks, chunks, 2});
+  const bool oneChunk = chunks == 1;
+  const Tensor partial = oneChunk ? stats : Tensor(stream.context(), {blocks, chunks, 2});
 
   struct { int32_t groupSize, chunks; float eps; } statsPush{static_cast<int32_t>(groupSize), chunks, eps};
   const int32_t vec4 = vec4When(groupSize);
-  stream.dispatch(stream.kernel("nn/group_norm_stats", {reduceWorkgroup(stream), 1, 1}, {vec4, kChunk, final ? 1 : 0}),
+  stream.dispatch(stream.kernel("nn/group_norm_stats", {reduceWorkgroup(stream), 1, 1}, {vec4, kChunk, oneChunk ? 1 : 0}),
                   {vec4 ? asVec4(x) : Arg(x), partial}, statsPush,
                   {static_cast<uint32_t>(chunks), static_cast<uint32_t>(blocks), 1});
-  if (final) return;
+  if (oneChunk) return;
 
   struct { int32_t groupSize, chunks, blocks; float eps; } finalizePush{static_cast<int32_t>(groupSize), chunks,
                                                                         blocks, eps};

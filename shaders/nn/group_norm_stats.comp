@@ -63,7 +63,8 @@ void main() {
   const float m2 = workgroupSum(localSum(begin, end, mean, true));
   if (gl_LocalInvocationID.x != 0u) return;
   if (FINAL) {
-    // group_norm_finalize's merge of a single chunk, step by step: from n = 0, mean 0 and m2 0.
+    // group_norm_finalize's merge of this one chunk into an empty one (n, mean, m2 = 0), operation for
+    // operation, so that the statistics are the same bits: mean' = 0 + d c / c, m2' = 0 + m2 + d^2 0 c / c.
     const float d = mean - 0.0;
     const float merged = 0.0 + d * count / count;
     partial[block] = vec2(merged, 1.0 / sqrt((0.0 + m2 + d * d * 0.0 * count / count) / float(groupSize) + eps));
