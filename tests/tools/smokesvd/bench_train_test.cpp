@@ -7,7 +7,10 @@
 namespace smokesvd::testing {
 namespace {
 
-// The training-step benchmarks report their memory, and buffer reuse lowers it.
+// The training-step benchmarks report their memory, and buffer reuse lowers it. Held 0.55 and pool peak 0.63 of
+// the memory without reuse since the convolutions keep their forward's padded input for the weight gradient
+// (alive from the forward to the backward, and no second padded copy made: 36.9 / 42.2 of 67.5 MB; before,
+// 30.1 / 37.7 of 86.5).
 TEST(BenchTrain, ReportsTheMemoryOfTheRecordedStepWithAndWithoutReuse) {
   const CommandResult result = runSmokesvd("bench train/conv3d-stack --json --runs 1 --warmup 0 --no-reference");
   ASSERT_EQ(result.exitCode, 0) << result.err;
@@ -19,8 +22,8 @@ TEST(BenchTrain, ReportsTheMemoryOfTheRecordedStepWithAndWithoutReuse) {
   EXPECT_EQ(plain.at("kernel"), "train/conv3d-stack-no-reuse");
   EXPECT_EQ(plain.at("held_bytes"), plain.at("held_bytes_without_reuse"));
   EXPECT_EQ(reused.at("held_bytes_without_reuse"), plain.at("held_bytes"));
-  EXPECT_LT(reused.at("held_bytes").get<double>(), 0.5 * plain.at("held_bytes").get<double>());
-  EXPECT_LT(reused.at("pool_peak_bytes").get<double>(), 0.5 * plain.at("pool_peak_bytes").get<double>());
+  EXPECT_LT(reused.at("held_bytes").get<double>(), 0.6 * plain.at("held_bytes").get<double>());
+  EXPECT_LT(reused.at("pool_peak_bytes").get<double>(), 0.7 * plain.at("pool_peak_bytes").get<double>());
 }
 
 // A network's training-step benchmark times each variant of its trainer's step (here G_u's on true and on
