@@ -104,6 +104,13 @@ int fitPixels(int pixels, int64_t width) {
   return static_cast<int>(std::min<uint64_t>(static_cast<uint64_t>(pixels), widest));
 }
 
+// A packing that reads the weight [K, C, taps] in its own order (the forward pass's), each row of C taps values a
+// whole number of vec4s: the transpose nn/conv_pack_rows makes from vec4 fetches.
+bool isPlainTranspose(const WeightPacking& p, int64_t tapCount) {
+  return p.taps == p.sourceKernel && p.firstTap == Int3{0, 0, 0} && p.tapStep == Int3{1, 1, 1} &&
+         p.strideC == tapCount && p.strideK == p.inChannels * tapCount && (p.inChannels * tapCount) % 4 == 0;
+}
+
 // How many invocations the weight gradient's chunks aim for on this device.
 int64_t weightGradInvocations(const DeviceInfo& device) {
   if (device.type != VK_PHYSICAL_DEVICE_TYPE_CPU) return kWeightGradInvocations;
@@ -190,9 +197,15 @@ Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int6
     std::optional<Stream> once;
     if (w.constant()) once.emplace(stream.context());
     Stream& into = once ? *once : stream;
-    if (vec4s > 0)
+    if (vec4s > 0 && isPlainTranspose(p, tapCount)) {
+      struct { int32_t rowVec4s, rows, paddedRow; } rowsPush{i32(p.inChannels * tapCount / 4), i32(p.outChannels),
+                                                              i32(paddedK / 4)};
+      into.dispatch(into.kernel("nn/conv_pack_rows", kFlatWorkgroup), {asVec4(w), packed}, rowsPush,
+                    {groupsFor(p.inChannels * tapCount / 4, kFlatWorkgroup[0]), static_cast<uint32_t>(paddedK / 4), 1});
+    } else if (vec4s > 0) {
       into.dispatch(into.kernel("nn/conv_pack_weights", kGridWorkgroup), {w, packed}, push,
                     {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(p.inChannels), 1});
+    }
     if (once) {
       once->submit();
       w.keepConstantDerived(key, packed);
