@@ -6,6 +6,7 @@
 #include <string>
 
 #include "nets/ops/conv.h"
+#include "nets/ops/conv_kernels.h"
 #include "nets/ops/elementwise.h"
 #include "runtime/error.h"
 #include "tests/harness/compare.h"
@@ -396,6 +397,36 @@ TEST_F(ConvTest, WeightGradientReadsThePaddingItsForwardKept) {
   ops::convForward(stream, x.tensor, w.tensor, nullptr, {}, y, {}, &kept);
   stream.submit();
   EXPECT_FALSE(kept.tensor.defined()) << "a pointwise convolution pads nothing";
+}
+
+// The forward pass's weight packing wp[c, tap, k] = w[k, c, tap] (zero for k >= K) against a plain loop, every
+// element: rows of C taps values that are whole vec4s take conv_pack_rows (C 4 and 8, 3x3 and 3x3x3 and 1x1
+// kernels; K 5, 9 and 16 with the padded channels past K), the others conv_pack_weights (C 3 and 5).
+TEST_F(ConvTest, ForwardWeightPackingIsTheTransposeOfTheWeight) {
+  for (const auto& [w, paddedK] : {std::pair<Shape, int64_t>{{5, 4, 3, 3}, 8}, {{9, 8, 3, 3, 3}, 12}, {{16, 4, 1, 1}, 16},
+                                   {{5, 3, 3, 3}, 8}, {{7, 5, 1, 1, 1}, 8}}) {
+    SCOPED_TRACE("w " + toString(w) + " padded to " + std::to_string(paddedK));
+    const int64_t k = w[0], c = w[1];
+    ops::conv::WeightPacking packing;
+    packing.outChannels = k;
+    packing.inChannels = c;
+    packing.sourceKernel = w.size() == 5 ? ops::conv::Int3{w[2], w[3], w[4]} : ops::conv::Int3{1, w[2], w[3]};
+    packing.taps = packing.sourceKernel;
+    const int64_t taps = packing.taps[0] * packing.taps[1] * packing.taps[2];
+    packing.strideC = taps;
+    packing.strideK = c * taps;
+    const Operand weight = operand(context(), w, 26);
+    Stream stream(context());
+    const Tensor packed = ops::conv::packWeights(stream, weight.tensor, packing, paddedK);
+    stream.submit();
+    std::vector<double> expected(static_cast<std::size_t>(c * taps * paddedK), 0.0);
+    for (int64_t ci = 0; ci < c; ++ci)
+      for (int64_t t = 0; t < taps; ++t)
+        for (int64_t ki = 0; ki < k; ++ki)
+          expected[static_cast<std::size_t>((ci * taps + t) * paddedK + ki)] =
+              weight.values[static_cast<std::size_t>((ki * c + ci) * taps + t)];
+    EXPECT_TRUE(allClose(packed, expected, {0, 0}));
+  }
 }
 
 // The bias gradient against a sum in double, on planes with and without a multiple of 4 positions, and on
