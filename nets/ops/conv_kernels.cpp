@@ -111,6 +111,15 @@ bool isPlainTranspose(const WeightPacking& p, int64_t tapCount) {
          p.strideC == tapCount && p.strideK == p.inChannels * tapCount && (p.inChannels * tapCount) % 4 == 0;
 }
 
+// The stride-1 backward-input packing (every tap, flipped along every axis, the channel axes exchanged) of a weight
+// whose packed output channels come in whole vec4s: what nn/conv_pack_flipped makes from vec4 fetches.
+bool isFlippedTranspose(const WeightPacking& p, int64_t tapCount) {
+  for (std::size_t axis = 0; axis < 3; ++axis)
+    if (p.taps[axis] != p.sourceKernel[axis] || p.firstTap[axis] != p.sourceKernel[axis] - 1 || p.tapStep[axis] != -1)
+      return false;
+  return p.strideK == tapCount && p.strideC == p.outChannels * tapCount && p.outChannels % 4 == 0;
+}
+
 // How many invocations the weight gradient's chunks aim for on this device.
 int64_t weightGradInvocations(const DeviceInfo& device) {
   if (device.type != VK_PHYSICAL_DEVICE_TYPE_CPU) return kWeightGradInvocations;
@@ -202,6 +211,10 @@ Tensor packWeights(Stream& stream, const Tensor& w, const WeightPacking& p, int6
                                                               i32(paddedK / 4)};
       into.dispatch(into.kernel("nn/conv_pack_rows", kFlatWorkgroup), {asVec4(w), packed}, rowsPush,
                     {groupsFor(p.inChannels * tapCount / 4, kFlatWorkgroup[0]), static_cast<uint32_t>(paddedK / 4), 1});
+    } else if (vec4s > 0 && isFlippedTranspose(p, tapCount)) {
+      struct { int32_t channels, paddedRow; } flippedPush{i32(p.outChannels), i32(paddedK / 4)};
+      into.dispatch(into.kernel("nn/conv_pack_flipped", kGridWorkgroup, {i32(tapCount)}), {asVec4(w), packed},
+                    flippedPush, {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(p.inChannels), 1});
     } else if (vec4s > 0) {
       into.dispatch(into.kernel("nn/conv_pack_weights", kGridWorkgroup), {w, packed}, push,
                     {groupsFor(paddedK / 4, kGridWorkgroup[0]), static_cast<uint32_t>(p.inChannels), 1});

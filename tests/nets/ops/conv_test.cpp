@@ -429,6 +429,40 @@ TEST_F(ConvTest, ForwardWeightPackingIsTheTransposeOfTheWeight) {
   }
 }
 
+// The stride-1 backward-input pass's packing wp[co, t, ci] = w[co, ci, taps - 1 - t] (the taps flipped along every
+// axis, zero for ci >= Cin) against a plain loop, every element: Cin a multiple of 4 takes conv_pack_flipped (4 and
+// 8 input channels, 3x3 and 3x3x3 kernels, padded past Cin), other counts conv_pack_weights (3 and 5).
+TEST_F(ConvTest, BackwardInputWeightPackingFlipsTheTaps) {
+  for (const auto& [w, paddedK] : {std::pair<Shape, int64_t>{{5, 4, 3, 3}, 8}, {{3, 8, 3, 3, 3}, 12}, {{6, 8, 3, 3}, 8},
+                                   {{5, 3, 3, 3}, 4}, {{2, 5, 3, 3, 3}, 8}}) {
+    SCOPED_TRACE("w " + toString(w) + " padded to " + std::to_string(paddedK));
+    const int64_t cout = w[0], cin = w[1];
+    ops::conv::WeightPacking packing;
+    packing.outChannels = cin;
+    packing.inChannels = cout;
+    packing.sourceKernel = w.size() == 5 ? ops::conv::Int3{w[2], w[3], w[4]} : ops::conv::Int3{1, w[2], w[3]};
+    packing.taps = packing.sourceKernel;
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      packing.firstTap[axis] = packing.sourceKernel[axis] - 1;
+      packing.tapStep[axis] = -1;
+    }
+    const int64_t taps = packing.taps[0] * packing.taps[1] * packing.taps[2];
+    packing.strideK = taps;
+    packing.strideC = cin * taps;
+    const Operand weight = operand(context(), w, 27);
+    Stream stream(context());
+    const Tensor packed = ops::conv::packWeights(stream, weight.tensor, packing, paddedK);
+    stream.submit();
+    std::vector<double> expected(static_cast<std::size_t>(cout * taps * paddedK), 0.0);
+    for (int64_t co = 0; co < cout; ++co)
+      for (int64_t t = 0; t < taps; ++t)
+        for (int64_t ci = 0; ci < cin; ++ci)
+          expected[static_cast<std::size_t>((co * taps + t) * paddedK + ci)] =
+              weight.values[static_cast<std::size_t>((co * cin + ci) * taps + (taps - 1 - t))];
+    EXPECT_TRUE(allClose(packed, expected, {0, 0}));
+  }
+}
+
 // The bias gradient against a sum in double, on planes with and without a multiple of 4 positions, and on
 // planes long enough that a lane's share passes the loop budget, so that the plane is split into chunks.
 TEST_F(ConvTest, BiasGradientOnShortAndLongPlanes) {
