@@ -399,68 +399,54 @@ TEST_F(ConvTest, WeightGradientReadsThePaddingItsForwardKept) {
   EXPECT_FALSE(kept.tensor.defined()) << "a pointwise convolution pads nothing";
 }
 
-// The forward pass's weight packing wp[c, tap, k] = w[k, c, tap] (zero for k >= K) against a plain loop, every
-// element: rows of C taps values that are whole vec4s take conv_pack_rows (C 4 and 8, 3x3 and 3x3x3 and 1x1
-// kernels; K 5, 9 and 16 with the padded channels past K), the others conv_pack_weights (C 3 and 5).
-TEST_F(ConvTest, ForwardWeightPackingIsTheTransposeOfTheWeight) {
-  for (const auto& [w, paddedK] : {std::pair<Shape, int64_t>{{5, 4, 3, 3}, 8}, {{9, 8, 3, 3, 3}, 12}, {{16, 4, 1, 1}, 16},
-                                   {{5, 3, 3, 3}, 8}, {{7, 5, 1, 1, 1}, 8}}) {
-    SCOPED_TRACE("w " + toString(w) + " padded to " + std::to_string(paddedK));
-    const int64_t k = w[0], c = w[1];
-    ops::conv::WeightPacking packing;
-    packing.outChannels = k;
-    packing.inChannels = c;
-    packing.sourceKernel = w.size() == 5 ? ops::conv::Int3{w[2], w[3], w[4]} : ops::conv::Int3{1, w[2], w[3]};
-    packing.taps = packing.sourceKernel;
-    const int64_t taps = packing.taps[0] * packing.taps[1] * packing.taps[2];
-    packing.strideC = taps;
-    packing.strideK = c * taps;
-    const Operand weight = operand(context(), w, 26);
-    Stream stream(context());
-    const Tensor packed = ops::conv::packWeights(stream, weight.tensor, packing, paddedK);
-    stream.submit();
-    std::vector<double> expected(static_cast<std::size_t>(c * taps * paddedK), 0.0);
-    for (int64_t ci = 0; ci < c; ++ci)
-      for (int64_t t = 0; t < taps; ++t)
-        for (int64_t ki = 0; ki < k; ++ki)
-          expected[static_cast<std::size_t>((ci * taps + t) * paddedK + ki)] =
-              weight.values[static_cast<std::size_t>((ki * c + ci) * taps + t)];
-    EXPECT_TRUE(allClose(packed, expected, {0, 0}));
-  }
-}
-
-// The stride-1 backward-input pass's packing wp[co, t, ci] = w[co, ci, taps - 1 - t] (the taps flipped along every
-// axis, zero for ci >= Cin) against a plain loop, every element: Cin a multiple of 4 takes conv_pack_flipped (4 and
-// 8 input channels, 3x3 and 3x3x3 kernels, padded past Cin), other counts conv_pack_weights (3 and 5).
-TEST_F(ConvTest, BackwardInputWeightPackingFlipsTheTaps) {
-  for (const auto& [w, paddedK] : {std::pair<Shape, int64_t>{{5, 4, 3, 3}, 8}, {{3, 8, 3, 3, 3}, 12}, {{6, 8, 3, 3}, 8},
-                                   {{5, 3, 3, 3}, 4}, {{2, 5, 3, 3, 3}, 8}}) {
-    SCOPED_TRACE("w " + toString(w) + " padded to " + std::to_string(paddedK));
-    const int64_t cout = w[0], cin = w[1];
-    ops::conv::WeightPacking packing;
-    packing.outChannels = cin;
-    packing.inChannels = cout;
-    packing.sourceKernel = w.size() == 5 ? ops::conv::Int3{w[2], w[3], w[4]} : ops::conv::Int3{1, w[2], w[3]};
-    packing.taps = packing.sourceKernel;
+// Packs w [A, B, taps] as the forward pass does (wp[b, t, a] = w[a, b, t]: a the output channel) or, `flipped`, as
+// the stride-1 backward-input pass does (wp[a, t, b] = w[a, b, taps - 1 - t]: a the convolution's output channel,
+// b its input channel, the taps flipped along every axis), padded to paddedK packed output channels, and compares
+// every element with a plain loop.
+void checkWeightPacking(Context& context, const Shape& w, int64_t paddedK, bool flipped) {
+  SCOPED_TRACE("w " + toString(w) + " padded to " + std::to_string(paddedK) + (flipped ? ", flipped" : ""));
+  ops::conv::WeightPacking packing;
+  packing.sourceKernel = w.size() == 5 ? ops::conv::Int3{w[2], w[3], w[4]} : ops::conv::Int3{1, w[2], w[3]};
+  packing.taps = packing.sourceKernel;
+  const int64_t taps = packing.taps[0] * packing.taps[1] * packing.taps[2];
+  const int64_t packedK = flipped ? w[1] : w[0], packedC = flipped ? w[0] : w[1];
+  packing.outChannels = packedK;
+  packing.inChannels = packedC;
+  packing.strideK = flipped ? taps : w[1] * taps;
+  packing.strideC = flipped ? w[1] * taps : taps;
+  if (flipped)
     for (std::size_t axis = 0; axis < 3; ++axis) {
       packing.firstTap[axis] = packing.sourceKernel[axis] - 1;
       packing.tapStep[axis] = -1;
     }
-    const int64_t taps = packing.taps[0] * packing.taps[1] * packing.taps[2];
-    packing.strideK = taps;
-    packing.strideC = cin * taps;
-    const Operand weight = operand(context(), w, 27);
-    Stream stream(context());
-    const Tensor packed = ops::conv::packWeights(stream, weight.tensor, packing, paddedK);
-    stream.submit();
-    std::vector<double> expected(static_cast<std::size_t>(cout * taps * paddedK), 0.0);
-    for (int64_t co = 0; co < cout; ++co)
-      for (int64_t t = 0; t < taps; ++t)
-        for (int64_t ci = 0; ci < cin; ++ci)
-          expected[static_cast<std::size_t>((co * taps + t) * paddedK + ci)] =
-              weight.values[static_cast<std::size_t>((co * cin + ci) * taps + (taps - 1 - t))];
-    EXPECT_TRUE(allClose(packed, expected, {0, 0}));
-  }
+  const Operand weight = operand(context, w, 26);
+  Stream stream(context);
+  const Tensor packed = ops::conv::packWeights(stream, weight.tensor, packing, paddedK);
+  stream.submit();
+  std::vector<double> expected(static_cast<std::size_t>(packedC * taps * paddedK), 0.0);
+  for (int64_t c = 0; c < packedC; ++c)
+    for (int64_t t = 0; t < taps; ++t)
+      for (int64_t k = 0; k < packedK; ++k) {
+        const int64_t source = flipped ? (c * w[1] + k) * taps + (taps - 1 - t) : (k * w[1] + c) * taps + t;
+        expected[static_cast<std::size_t>((c * taps + t) * paddedK + k)] = weight.values[static_cast<std::size_t>(source)];
+      }
+  EXPECT_TRUE(allClose(packed, expected, {0, 0}));
+}
+
+// The forward pass's packing: rows of C taps values that are whole vec4s take conv_pack_rows (C 4 and 8; 3x3,
+// 3x3x3 and 1x1 kernels; K 5, 9 and 16, with padded channels past K), the others conv_pack_weights (C 3 and 5).
+TEST_F(ConvTest, ForwardWeightPackingIsTheTransposeOfTheWeight) {
+  for (const auto& [w, paddedK] : {std::pair<Shape, int64_t>{{5, 4, 3, 3}, 8}, {{9, 8, 3, 3, 3}, 12}, {{16, 4, 1, 1}, 16},
+                                   {{5, 3, 3, 3}, 8}, {{7, 5, 1, 1, 1}, 8}})
+    checkWeightPacking(context(), w, paddedK, false);
+}
+
+// The stride-1 backward-input pass's packing: input channel counts that are multiples of 4 take conv_pack_flipped
+// (4 and 8; 3x3 and 3x3x3 kernels, padded past them), the others conv_pack_weights (3 and 5).
+TEST_F(ConvTest, BackwardInputWeightPackingFlipsTheTaps) {
+  for (const auto& [w, paddedK] : {std::pair<Shape, int64_t>{{5, 4, 3, 3}, 8}, {{3, 8, 3, 3, 3}, 12}, {{6, 8, 3, 3}, 8},
+                                   {{5, 3, 3, 3}, 4}, {{2, 5, 3, 3, 3}, 8}})
+    checkWeightPacking(context(), w, paddedK, true);
 }
 
 // The bias gradient against a sum in double, on planes with and without a multiple of 4 positions, and on
