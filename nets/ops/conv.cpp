@@ -171,11 +171,11 @@ void transposed(Stream& stream, const ConvGeometry& g, const Tensor& dy, const T
   }
 }
 
-// The forward's kept copy where it holds every value the weight gradient reads (`size`, the width rounded
-// up as conv::pad rounds it), a new padded copy of f(x) otherwise.
+// The forward's kept copy where it holds every value the weight gradient reads (the extent conv::pad would give
+// `size`), a new padded copy of f(x) otherwise.
 conv::Padded paddedForWeightGradient(Stream& stream, const ConvGeometry& g, const Tensor& x, const Int3& size,
                                      const conv::PadActivation& activation, const PaddedInput* kept) {
-  const Int3 needed{size[0], size[1], conv::roundUp(size[2], 4)};
+  const Int3 needed = conv::paddedExtent(size);
   if (kept != nullptr && kept->tensor.defined() && kept->size[0] >= needed[0] && kept->size[1] >= needed[1] &&
       kept->size[2] >= needed[2])
     return {kept->tensor, g.batch, g.inChannels, kept->size};

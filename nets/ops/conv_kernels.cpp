@@ -153,10 +153,12 @@ ConvBlocking weightGradBlocking(const DeviceInfo& device, ConvBlocking requested
   return {pixels, requested.channelVec4s != 0 ? requested.channelVec4s : channelVec4s};
 }
 
+Int3 paddedExtent(const Int3& size) { return {size[0], size[1], roundUp(size[2], 4)}; }
+
 Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, const PadActivation& activation) {
   const Shape& s = x5.shape();
   Padded xp;
-  xp.size = {size[0], size[1], roundUp(size[2], 4)};
+  xp.size = paddedExtent(size);
   xp.batch = s[0];
   xp.channels = s[1];
   // Four floats of slack: a kernel may read a whole vec4 from the last element on.

@@ -34,6 +34,8 @@ struct PadActivation {
   const NormSiluInput* norm = nullptr;
 };
 Padded pad(Stream& stream, const Tensor& x5, const Int3& low, const Int3& size, const PadActivation& activation = {});
+// The extent pad() gives a padded copy of extent `size`: the row rounded up to a multiple of 4.
+Int3 paddedExtent(const Int3& size);
 
 // Where packed weight [c, r, s, t, k] comes from in a weight tensor: k and c are source axes with element
 // strides strideK and strideC; the tap (r, s, t) reads source tap firstTap + (r, s, t) * tapStep of a
