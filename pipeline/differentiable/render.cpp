@@ -3,6 +3,7 @@
 #include "nets/op_registry.h"
 #include "pipeline/camera/calibration.h"
 #include "pipeline/render/lift.h"
+#include "pipeline/render/occupied_box.h"
 #include "pipeline/render/rotate.h"
 #include "runtime/error.h"
 
@@ -11,12 +12,13 @@ namespace smokesvd::diff {
 Var render(Tape& tape, const Var& density, const render::ViewSet& views, const render::RenderSettings& settings) {
   const GridSize grid = render::volumeGrid(density->value, "render density");
   Tensor images(tape.context(), {views.views, 1, views.height, views.width});
+  const Tensor box = render::occupiedBox(tape.stream(), density->value);
   Tensor shadow;
   if (settings.light) {
     shadow = Tensor(tape.context(), grid.volume());
-    render::lightTransmittance(tape.stream(), density->value, settings, shadow);
+    render::lightTransmittance(tape.stream(), density->value, settings, shadow, &box);
   }
-  render::march(tape.stream(), density->value, settings.light ? &shadow : nullptr, views, settings, images);
+  render::march(tape.stream(), density->value, settings.light ? &shadow : nullptr, views, settings, images, &box);
   Var out = tape.output(images, {density});
   if (out->requiresGrad) {
     tape.record({out}, [density, out, views, settings, shadow](Tape& t) {

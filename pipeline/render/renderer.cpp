@@ -4,6 +4,7 @@
 
 #include "pipeline/render/atomics.h"
 #include "pipeline/render/corner_quads.h"
+#include "pipeline/render/occupied_box.h"
 #include "runtime/context.h"
 #include "runtime/error.h"
 
@@ -121,18 +122,20 @@ void uploadLook(const Tensor& look, const RenderSettings& settings) {
   look.upload(lookValues(settings));
 }
 
-void lightTransmittance(Stream& stream, const Tensor& density, const RenderSettings& settings, const Tensor& shadow) {
+void lightTransmittance(Stream& stream, const Tensor& density, const RenderSettings& settings, const Tensor& shadow,
+                        const Tensor* box) {
   validate(settings);
   if (!settings.light) throw Error("render: light transmittance needs a light in the settings");
   const GridSize grid = volumeGrid(density, "render density");
   requireShape(shadow, grid.volume(), "the light-transmittance volume");
   stream.dispatchFlat(stream.kernel("render/light_transmittance", kWorkgroup),
-                      {density, shadow, deviceLook(stream.context(), settings), asVec4(cornerQuads(stream, density))},
+                      {density, shadow, deviceLook(stream.context(), settings), asVec4(cornerQuads(stream, density)),
+                       asVec4(box ? *box : occupiedBox(stream, density))},
                       lightPush(grid, *settings.light), static_cast<uint64_t>(density.numel()));
 }
 
 void march(Stream& stream, const Tensor& density, const Tensor* shadow, const ViewSet& views,
-           const RenderSettings& settings, const Tensor& images) {
+           const RenderSettings& settings, const Tensor& images, const Tensor* box) {
   validate(settings);
   const GridSize grid = volumeGrid(density, "render density");
   requireShape(images, imageShape(views), "the images");
@@ -140,7 +143,8 @@ void march(Stream& stream, const Tensor& density, const Tensor* shadow, const Vi
   const Tensor& shadowOrDensity = lit ? requireShadow(shadow, grid, settings) : density;
   const Kernel& kernel = stream.kernel("render/march", kWorkgroup, {lit ? 1 : 0});
   stream.dispatchFlat(kernel,
-                      {density, shadowOrDensity, asVec4(views.table), images, deviceLook(stream.context(), settings)},
+                      {density, shadowOrDensity, asVec4(views.table), images, deviceLook(stream.context(), settings),
+                       asVec4(box ? *box : occupiedBox(stream, density))},
                       marchPush(grid, views, settings), static_cast<uint64_t>(images.numel()));
 }
 
@@ -152,8 +156,9 @@ void render(Stream& stream, const Tensor& density, const ViewSet& views, const R
   }
   const GridSize grid = volumeGrid(density, "render density");
   Tensor shadow(stream.context(), grid.volume());
-  lightTransmittance(stream, density, settings, shadow);
-  march(stream, density, &shadow, views, settings, images);
+  const Tensor box = occupiedBox(stream, density);
+  lightTransmittance(stream, density, settings, shadow, &box);
+  march(stream, density, &shadow, views, settings, images, &box);
 }
 
 namespace {

@@ -59,12 +59,15 @@ void uploadLook(const Tensor& look, const RenderSettings& settings);
 void render(Stream& stream, const Tensor& density, const ViewSet& views, const RenderSettings& settings,
             const Tensor& images);
 
-// The pieces render() is made of, for callers that keep the shadow volume for the backward pass.
+// The pieces render() is made of, for callers that keep the shadow volume for the backward pass. Both take
+// only the samples inside the density's occupied box (occupied_box.h; the same results bit for bit):
+// `box`, where given, is occupiedBox(density), so that the two share it; null makes it here.
 // lightTransmittance: T_L at every voxel centre, shadow [D, H, W]; needs settings.light.
-void lightTransmittance(Stream& stream, const Tensor& density, const RenderSettings& settings, const Tensor& shadow);
+void lightTransmittance(Stream& stream, const Tensor& density, const RenderSettings& settings, const Tensor& shadow,
+                        const Tensor* box = nullptr);
 // march: the camera rays; `shadow` is required with a light and ignored without.
 void march(Stream& stream, const Tensor& density, const Tensor* shadow, const ViewSet& views,
-           const RenderSettings& settings, const Tensor& images);
+           const RenderSettings& settings, const Tensor& images, const Tensor* box = nullptr);
 
 // d loss / d density from gradImages = d loss / d images, given the forward's images (and shadow, with a
 // light). Writes gradDensity [D, H, W].
