@@ -226,11 +226,19 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
     marchAdjointByPlanes(stream, in, direct, gradShadow);
   else
     marchAdjointScattered(stream, in, direct, gradShadow);
-  if (!lit) return;
+  if (lit) lightTransmittanceBackward(stream, in.shadowOrDensity, gradShadow, direct, settings, gradDensity);
+}
+
+void lightTransmittanceBackward(Stream& stream, const Tensor& shadow, const Tensor& gradShadow, const Tensor& direct,
+                                const RenderSettings& settings, const Tensor& gradDensity, const Tensor* box) {
+  validate(settings);
+  if (!settings.light) throw Error("render: the light transmittance's adjoint needs a light in the settings");
+  const GridSize grid = volumeGrid(shadow, "light transmittance");
+  for (const Tensor* t : {&gradShadow, &direct, &gradDensity}) requireShape(*t, grid.volume(), "each volume of the light pass's adjoint");
   stream.dispatchFlat(stream.kernel("render/light_transmittance_adjoint", kWorkgroup),
-                      {asVec4(cornerQuads(stream, in.shadowOrDensity)), asVec4(cornerQuads(stream, gradShadow)), direct,
-                       gradDensity, in.look},
-                      lightPush(grid, *settings.light), static_cast<uint64_t>(density.numel()));
+                      {asVec4(cornerQuads(stream, shadow)), asVec4(cornerQuads(stream, gradShadow)), direct, gradDensity,
+                       deviceLook(stream.context(), settings), asVec4(box ? *box : occupiedBox(stream, gradShadow))},
+                      lightPush(grid, *settings.light), static_cast<uint64_t>(grid.x * grid.y * grid.z));
 }
 
 }  // namespace smokesvd::render

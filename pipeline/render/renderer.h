@@ -75,4 +75,11 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
                     const RenderSettings& settings, const Tensor& images, const Tensor& gradImages,
                     const Tensor& gradDensity);
 
+// The light pass's adjoint, the last piece of renderBackward() with a light: gradDensity = direct + the density
+// gradient that gradShadow = d loss / d shadow carries back through lightTransmittance(), all [D, H, W]. It
+// takes only the samples inside gradShadow's occupied box (the same result bit for bit): `box`, where given, is
+// occupiedBox(gradShadow); null makes it here.
+void lightTransmittanceBackward(Stream& stream, const Tensor& shadow, const Tensor& gradShadow, const Tensor& direct,
+                                const RenderSettings& settings, const Tensor& gradDensity, const Tensor* box = nullptr);
+
 }  // namespace smokesvd::render

@@ -6,9 +6,12 @@
 // where H~ is H sampled trilinearly with zero padding: the forward sample of voxel v at c_v + s_j gives q the
 // weight tent(c_v + s_j - c_q), which is the trilinear weight of v at c_q - s_j. The march away from the light
 // stops where it leaves the box [-1/2, N + 1/2]. direct(q) is the gradient that reached sigma by other paths.
+// A sample whose stencil's gT is zero at every corner adds exactly 0, so the march takes only the samples that
+// can fall inside gT's occupied box (occupied_box.glsl): the same sum bit for bit.
 #include "index.glsl"
 #include "sampling.glsl"
 #include "look.glsl"
+#include "occupied_box.glsl"
 layout(local_size_x_id = 0, local_size_y_id = 1, local_size_z_id = 2) in;
 
 layout(binding = 0) uniform samplerBuffer transmittance_quads;       // corner quads (corner_quads.comp) of T_L
@@ -16,6 +19,7 @@ layout(binding = 1) uniform samplerBuffer grad_transmittance_quads;  // and of g
 layout(binding = 2) uniform samplerBuffer direct;
 layout(std430, binding = 3) writeonly buffer GradDensity { float grad_density[]; };
 layout(binding = 4) uniform samplerBuffer look;
+layout(binding = 5) uniform samplerBuffer box;  // gT's occupied box: low, high (occupied_box.comp)
 layout(push_constant) uniform Push {
   int width, height, depth;
   float step_length;
@@ -47,8 +51,9 @@ void main() {
   const float absorption = look_light_absorption(look);
   const vec3 lo = vec3(-0.5), hi = vec3(size) + 0.5;
   const vec3 centre = vec3(x, y, z) + 0.5;
+  const vec2 range = samples_in_box(centre, away, texelFetch(box, 0).xyz, texelFetch(box, 1).xyz);
   float sum = 0.0;
-  for (float j = 0.5;; j += 1.0) {
+  for (float j = max(0.5, ceil(range.x - 0.5) + 0.5); j <= range.y; j += 1.0) {  // j = 1/2, 3/2, ... in the range
     const vec3 p = centre + j * away;
     if (any(lessThanEqual(p, lo)) || any(greaterThanEqual(p, hi))) break;
     sum += sample_h(size, p);

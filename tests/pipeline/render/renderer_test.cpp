@@ -285,6 +285,44 @@ TEST_F(GpuTest, MarchesOverTheOccupiedBoxGiveTheSameBitsAsOverEverySample) {
   }
 }
 
+// The light pass's adjoint takes only the samples in the occupied box of the shadow's gradient; the same bits as
+// with a box that holds every sample, for gradients that are zero outside regions starting on block faces and
+// between them, lights along and across the axes and steps that are not whole voxels.
+TEST_F(GpuTest, LightAdjointOverTheOccupiedBoxGivesTheSameBitsAsOverEverySample) {
+  const Tensor everything =
+      Tensor::fromHost(context(), {2, 4}, std::vector<float>{-1e30f, -1e30f, -1e30f, 0, 1e30f, 1e30f, 1e30f, 0});
+  const std::vector<Vec3> lights{{-0.5, 1.0, -1.0}, {0.0, 1.0, 0.0}, {1.0, 0.0, 0.0}, {0.3, -0.9, 0.2}};
+  const std::vector<Region> regions{{4, 9, 8, 13, 4, 7}, {1, 6, 3, 9, 5, 11}, {0, 20, 2, 4, 0, 16}};
+  for (const GridSize grid : {GridSize{.x = 13, .y = 17, .z = 11}, GridSize{.x = 20, .y = 9, .z = 16}}) {
+    const Tensor shadow = randomTensor(context(), grid.volume(), 81, 0.05f, 1.0f);
+    const Tensor direct = randomTensor(context(), grid.volume(), 82);
+    for (std::size_t r = 0; r < regions.size(); ++r) {
+      const Tensor gradShadow = Tensor::fromHost(context(), grid.volume(), sparseSmoke(grid, 83 + r, regions[r]));
+      for (std::size_t l = 0; l < lights.size(); ++l) {
+        render::RenderSettings s = litSettings();
+        s.light->direction = lights[l];
+        s.light->step = l % 2 == 0 ? 0.7f : 1.3f;
+        const Tensor box = poisonedTensor(context(), {2, 4});
+        std::vector<Tensor> grads;
+        Stream stream(context());
+        for (const Tensor* bounds : {static_cast<const Tensor*>(nullptr), &everything}) {
+          grads.push_back(poisonedTensor(context(), grid.volume()));
+          render::lightTransmittanceBackward(stream, shadow, gradShadow, direct, s, grads.back(), bounds);
+        }
+        render::occupiedBox(stream, gradShadow, Tensor(context(), render::occupiedBlocksShape(grid)), box);
+        stream.submit();
+        const std::string where = "grid " + std::to_string(grid.x) + "x" + std::to_string(grid.y) + "x" +
+                                  std::to_string(grid.z) + ", region " + std::to_string(r) + ", light " + std::to_string(l);
+        EXPECT_TRUE(allClose(grads[0], grads[1].download(), {0.0, 0.0})) << where;
+        const std::vector<float> b = box.download();
+        EXPECT_TRUE(b[0] > -0.5f || b[1] > -0.5f || b[2] > -0.5f || b[4] < static_cast<float>(grid.x) + 0.5f ||
+                    b[5] < static_cast<float>(grid.y) + 0.5f || b[6] < static_cast<float>(grid.z) + 0.5f)
+            << "the box holds the whole grid, so nothing was left out: " << where;
+      }
+    }
+  }
+}
+
 TEST_F(GpuTest, FrontViewColumnsAreVoxelColumns) {
   // One lit voxel column along z at (x = 2, y = 3): the front view shows it at column 2, row H - 1 - 3.
   const GridSize grid{.x = 5, .y = 6, .z = 4};
