@@ -1,5 +1,6 @@
 // Render benchmarks at the paper's size: 16 orbit views of a 64x112x64 volume at 112x64 pixels, forward and
-// adjoint, with and without the shadowing light; lifting and rotation of the same volume. Bytes count the
+// adjoint, with and without the shadowing light, of a smoke column that fills most of the grid and of a plume
+// that leaves most of it empty; lifting and rotation of the column. Bytes count the
 // tensors each run must read and write once (volume, shadow, images, gradients, camera table); the ray
 // marcher's trilinear fetches re-read the volume many times, so the figure is an effective bandwidth.
 #include <cmath>
@@ -39,10 +40,26 @@ Tensor smoke(Context& context) {
   return Tensor::fromHost(context, kGrid.volume(), values);
 }
 
-void marchBenchmarks(BenchContext& b, bool lit) {
+// A plume as a fresh simulation holds one: a column of radius 10 voxels over the lower 70 of the 112 rows and
+// zeros elsewhere, so that most of the grid is empty space, which the forward marches leave out
+// (docs/rendering.md, "Empty space: the occupied box").
+Tensor plume(Context& context) {
+  std::vector<float> values(static_cast<std::size_t>(kGrid.z * kGrid.y * kGrid.x), 0.0f);
+  for (int z = 0; z < kGrid.z; ++z)
+    for (int y = 0; y < 70; ++y)
+      for (int x = 0; x < kGrid.x; ++x) {
+        const double dx = (x - 32.0) / 6.0, dz = (z - 32.0) / 6.0, squared = dx * dx + dz * dz;
+        if (squared < (10.0 / 6.0) * (10.0 / 6.0))
+          values[static_cast<std::size_t>((z * kGrid.y + y) * kGrid.x + x)] = static_cast<float>(std::exp(-squared));
+      }
+  return Tensor::fromHost(context, kGrid.volume(), values);
+}
+
+// The shadow pass, the render and its adjoint of `density`, named render/<prefix>shadow-pass,
+// render/<prefix>forward[-lit] and render/<prefix>adjoint[-lit].
+void marchBenchmarks(BenchContext& b, bool lit, const Tensor& density, const std::string& prefix) {
   Context& context = b.context();
   const render::ViewSet views = render::uploadViews(context, orbitCameras(orbitAngles(kViews), kGrid, kWidth, kHeight));
-  const Tensor density = smoke(context);
   const double volumeBytes = static_cast<double>(density.bytes());
   const double imageBytes = 4.0 * kViews * kWidth * kHeight;
   const double tableBytes = static_cast<double>(views.table.bytes());
@@ -57,7 +74,7 @@ void marchBenchmarks(BenchContext& b, bool lit) {
     const render::RenderSettings s = settings(lit);
     const std::string suffix = lit ? "-lit" : "";
     if (lit) {
-      b.measure("render/shadow-pass", "64x112x64", 2 * volumeBytes, 0,
+      b.measure("render/" + prefix + "shadow-pass", "64x112x64", 2 * volumeBytes, 0,
                 [&](Stream& st) { render::lightTransmittance(st, density, s, shadow); });
       Stream prepare(context);
       render::lightTransmittance(prepare, density, s, shadow);
@@ -65,13 +82,13 @@ void marchBenchmarks(BenchContext& b, bool lit) {
     }
     const Tensor* shadowOrNull = lit ? &shadow : nullptr;
     // Forward: the full render (shadow pass included when lit).
-    b.measure("render/forward" + suffix, kShape, (lit ? 3 : 1) * volumeBytes + imageBytes + tableBytes, 0,
+    b.measure("render/" + prefix + "forward" + suffix, kShape, (lit ? 3 : 1) * volumeBytes + imageBytes + tableBytes, 0,
               [&](Stream& st) { render::render(st, density, views, s, images); });
     Stream forward(context);
     render::march(forward, density, shadowOrNull, views, s, images);
     forward.submit();
     // Adjoint: scatter march (+ shadow gather when lit); reads density, images, image gradient; writes gradients.
-    b.measure("render/adjoint" + suffix, kShape,
+    b.measure("render/" + prefix + "adjoint" + suffix, kShape,
               (lit ? 6 : 2) * volumeBytes + 2 * imageBytes + tableBytes, 0, [&](Stream& st) {
                 render::renderBackward(st, density, shadowOrNull, views, s, images, gradImages, gradDensity);
               });
@@ -102,8 +119,10 @@ void liftRotateBenchmarks(BenchContext& b) {
 }
 
 const bool registered =
-    registerBenchmark({"render/unlit", [](BenchContext& b) { marchBenchmarks(b, false); }}) &&
-    registerBenchmark({"render/lit", [](BenchContext& b) { marchBenchmarks(b, true); }}) &&
+    registerBenchmark({"render/unlit", [](BenchContext& b) { marchBenchmarks(b, false, smoke(b.context()), ""); }}) &&
+    registerBenchmark({"render/lit", [](BenchContext& b) { marchBenchmarks(b, true, smoke(b.context()), ""); }}) &&
+    registerBenchmark({"render/plume-unlit", [](BenchContext& b) { marchBenchmarks(b, false, plume(b.context()), "plume-"); }}) &&
+    registerBenchmark({"render/plume-lit", [](BenchContext& b) { marchBenchmarks(b, true, plume(b.context()), "plume-"); }}) &&
     registerBenchmark({"render/lift-rotate", liftRotateBenchmarks});
 
 }  // namespace
