@@ -237,13 +237,24 @@ std::vector<float> sparseSmoke(const GridSize& grid, uint64_t seed, const Region
   return values;
 }
 
+// An occupied box that holds every sample a march can take: nothing is left out.
+Tensor boxOfEverySample(Context& context) {
+  return Tensor::fromHost(context, {2, 4}, std::vector<float>{-1e30f, -1e30f, -1e30f, 0, 1e30f, 1e30f, 1e30f, 0});
+}
+
+// Whether an occupied box (low, high as downloaded) is smaller than the box [-1/2, N + 1/2] of `grid` on some
+// side, so that a march over it leaves samples out.
+bool leavesSamplesOut(const std::vector<float>& b, const GridSize& grid) {
+  return b[0] > -0.5f || b[1] > -0.5f || b[2] > -0.5f || b[4] < static_cast<float>(grid.x) + 0.5f ||
+         b[5] < static_cast<float>(grid.y) + 0.5f || b[6] < static_cast<float>(grid.z) + 0.5f;
+}
+
 // The shadow pass and the march take only the samples in the density's occupied box; each one they leave out
 // adds exactly 0, so both give the same bits as with a box that holds every sample (low -1e30, high 1e30), on
 // sparse volumes of odd sizes, for lights along and across the axes and steps that are not whole voxels,
 // through orbit and perspective cameras.
 TEST_F(GpuTest, MarchesOverTheOccupiedBoxGiveTheSameBitsAsOverEverySample) {
-  const Tensor everything =
-      Tensor::fromHost(context(), {2, 4}, std::vector<float>{-1e30f, -1e30f, -1e30f, 0, 1e30f, 1e30f, 1e30f, 0});
+  const Tensor everything = boxOfEverySample(context());
   const std::vector<Vec3> lights{{-0.5, 1.0, -1.0}, {0.0, 1.0, 0.0}, {1.0, 0.0, 0.0}, {0.3, -0.9, 0.2}, {-1.0, -1.0, -1.0}};
   for (const GridSize grid : {GridSize{.x = 13, .y = 17, .z = 11}, GridSize{.x = 20, .y = 9, .z = 16}}) {
     const std::vector<Camera> cameras = mixedCameras(grid, static_cast<int>(grid.x), static_cast<int>(grid.y));
@@ -276,10 +287,7 @@ TEST_F(GpuTest, MarchesOverTheOccupiedBoxGiveTheSameBitsAsOverEverySample) {
         if (s.light) {
           EXPECT_TRUE(allClose(shadows[0], shadows[1].download(), {0.0, 0.0})) << "shadow, " << where;
         }
-        const std::vector<float> b = box.download();
-        EXPECT_TRUE(b[0] > -0.5f || b[1] > -0.5f || b[2] > -0.5f || b[4] < static_cast<float>(grid.x) + 0.5f ||
-                    b[5] < static_cast<float>(grid.y) + 0.5f || b[6] < static_cast<float>(grid.z) + 0.5f)
-            << "the box holds the whole grid, so nothing was left out: " << where;
+        EXPECT_TRUE(leavesSamplesOut(box.download(), grid)) << "the box holds the whole grid, so nothing was left out: " << where;
       }
     }
   }
@@ -289,8 +297,7 @@ TEST_F(GpuTest, MarchesOverTheOccupiedBoxGiveTheSameBitsAsOverEverySample) {
 // with a box that holds every sample, for gradients that are zero outside regions starting on block faces and
 // between them, lights along and across the axes and steps that are not whole voxels.
 TEST_F(GpuTest, LightAdjointOverTheOccupiedBoxGivesTheSameBitsAsOverEverySample) {
-  const Tensor everything =
-      Tensor::fromHost(context(), {2, 4}, std::vector<float>{-1e30f, -1e30f, -1e30f, 0, 1e30f, 1e30f, 1e30f, 0});
+  const Tensor everything = boxOfEverySample(context());
   const std::vector<Vec3> lights{{-0.5, 1.0, -1.0}, {0.0, 1.0, 0.0}, {1.0, 0.0, 0.0}, {0.3, -0.9, 0.2}};
   const std::vector<Region> regions{{4, 9, 8, 13, 4, 7}, {1, 6, 3, 9, 5, 11}, {0, 20, 2, 4, 0, 16}};
   for (const GridSize grid : {GridSize{.x = 13, .y = 17, .z = 11}, GridSize{.x = 20, .y = 9, .z = 16}}) {
@@ -314,10 +321,7 @@ TEST_F(GpuTest, LightAdjointOverTheOccupiedBoxGivesTheSameBitsAsOverEverySample)
         const std::string where = "grid " + std::to_string(grid.x) + "x" + std::to_string(grid.y) + "x" +
                                   std::to_string(grid.z) + ", region " + std::to_string(r) + ", light " + std::to_string(l);
         EXPECT_TRUE(allClose(grads[0], grads[1].download(), {0.0, 0.0})) << where;
-        const std::vector<float> b = box.download();
-        EXPECT_TRUE(b[0] > -0.5f || b[1] > -0.5f || b[2] > -0.5f || b[4] < static_cast<float>(grid.x) + 0.5f ||
-                    b[5] < static_cast<float>(grid.y) + 0.5f || b[6] < static_cast<float>(grid.z) + 0.5f)
-            << "the box holds the whole grid, so nothing was left out: " << where;
+        EXPECT_TRUE(leavesSamplesOut(box.download(), grid)) << "the box holds the whole grid, so nothing was left out: " << where;
       }
     }
   }
