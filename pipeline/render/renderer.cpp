@@ -226,7 +226,10 @@ void renderBackward(Stream& stream, const Tensor& density, const Tensor* shadow,
     marchAdjointByPlanes(stream, in, direct, gradShadow);
   else
     marchAdjointScattered(stream, in, direct, gradShadow);
-  if (lit) lightTransmittanceBackward(stream, in.shadowOrDensity, gradShadow, direct, settings, gradDensity);
+  if (!lit) return;
+  RenderSettings withLook = settings;  // the device look the march's adjoint read, not a second upload of it
+  withLook.look = in.look;
+  lightTransmittanceBackward(stream, in.shadowOrDensity, gradShadow, direct, withLook, gradDensity);
 }
 
 void lightTransmittanceBackward(Stream& stream, const Tensor& shadow, const Tensor& gradShadow, const Tensor& direct,
