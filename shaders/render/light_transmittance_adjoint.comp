@@ -53,7 +53,7 @@ void main() {
   const vec3 centre = vec3(x, y, z) + 0.5;
   const vec2 range = samples_in_box(centre, away, texelFetch(box, 0).xyz, texelFetch(box, 1).xyz);
   float sum = 0.0;
-  for (float j = max(0.5, ceil(range.x - 0.5) + 0.5); j <= range.y; j += 1.0) {  // j = 1/2, 3/2, ... in the range
+  for (float j = first_sample_in(range); j <= range.y; j += 1.0) {
     const vec3 p = centre + j * away;
     if (any(lessThanEqual(p, lo)) || any(greaterThanEqual(p, hi))) break;
     sum += sample_h(size, p);

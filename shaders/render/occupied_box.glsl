@@ -7,27 +7,21 @@
 #ifndef SMOKESVD_RENDER_OCCUPIED_BOX_GLSL
 #define SMOKESVD_RENDER_OCCUPIED_BOX_GLSL
 
+#include "camera.glsl"
+
 const int OCCUPIED_BLOCK = 4;
 // The box is widened by this much on every side where a march meets it, so that the roundings of a
 // sample's position cannot carry a sample that is taken past it.
 const float OCCUPIED_MARGIN = 1.0 / 1024.0;
 
-// The sample indices j of a march at origin + j step that can lie in [low, high): [first, last] (empty when
-// first > last, as it is for an empty box, low > high).
+// The parameters j >= 0 of a march at origin + j step that can lie in [low, high): [first, last] (empty when
+// first > last, as it is for an empty box, low > high): the ray's span through the widened box (ray_box).
 vec2 samples_in_box(vec3 origin, vec3 step, vec3 low, vec3 high) {
   if (any(greaterThan(low, high))) return vec2(1.0, 0.0);
-  float first = -1.0e30, last = 1.0e30;
-  for (int axis = 0; axis < 3; ++axis) {
-    const float from = low[axis] - OCCUPIED_MARGIN, to = high[axis] + OCCUPIED_MARGIN;
-    if (step[axis] == 0.0) {
-      if (origin[axis] < from || origin[axis] > to) return vec2(1.0, 0.0);
-      continue;
-    }
-    const float a = (from - origin[axis]) / step[axis], b = (to - origin[axis]) / step[axis];
-    first = max(first, min(a, b));
-    last = min(last, max(a, b));
-  }
-  return vec2(first, last);
+  return ray_box(origin, step, low - OCCUPIED_MARGIN, high + OCCUPIED_MARGIN);
 }
+
+// The first sample j = 1/2, 3/2, ... of a light march in `range` (samples_in_box).
+float first_sample_in(vec2 range) { return max(0.5, ceil(range.x - 0.5) + 0.5); }
 
 #endif
