@@ -92,7 +92,11 @@ const std::vector<Network>& allNetworks() {
 Network parseNetwork(const std::string& name) {
   for (const Network n : allNetworks())
     if (networkName(n) == name) return n;
-  throw Error("unknown network '" + name + "'; expected one of: grho-coarse, grho-fine, nvref, gu, svdiff, svdiff-init");
+  const std::string expected = "expected one of: grho-coarse, grho-fine, nvref, gu, svdiff, svdiff-init";
+  if (name == "grho")
+    throw Error("network 'grho' is trained as two models of one architecture: grho-coarse (the front and side views, "
+                "and larger view sets that hold them) and grho-fine (all 16 views); " + expected);
+  throw Error("unknown network '" + name + "'; " + expected);
 }
 
 double number(const json& section, const std::string& key, const std::string& where) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <sstream>
 
@@ -54,6 +55,32 @@ void checkFinite(const LossTerms& terms, const std::vector<float>& values, int64
                   "' is not finite; lower the learning rate, or run with SMOKESVD_CHECK=1 to find the first bad kernel");
 }
 
+// Whose weights a safetensors file says it holds ("network" and "preset" of its metadata, as smokesvd writes
+// them), where that is not the run's own network and preset: the likely cause of weights that do not fit.
+std::string otherModelIn(const fs::path& path, const networks::NetworkConfig& config) {
+  std::map<std::string, std::string> metadata;
+  try {
+    metadata = io::readSafetensors(path).metadata;
+  } catch (const Error&) {
+    return "";  // the failed load's own message says what is wrong with the file
+  }
+  const auto network = metadata.find("network"), preset = metadata.find("preset");
+  if (network == metadata.end() || preset == metadata.end()) return "";
+  const std::string ours = networks::networkName(config.network);
+  if (network->second == ours && preset->second == config.preset) return "";
+  return path.string() + " holds a " + network->second + " model of the " + preset->second +
+         " preset, and this run trains " + ours + " at the " + config.preset + " preset; ";
+}
+
+// --init's weights into the model; where they do not fit, the error says first whose weights the file holds.
+void loadInitialWeights(const fs::path& path, modules::Module& model, const networks::NetworkConfig& config) {
+  try {
+    modules::loadWeights(path, model);
+  } catch (const Error& error) {
+    throw Error(otherModelIn(path, config) + error.what());
+  }
+}
+
 }  // namespace
 
 diffusion::Gaussian stepRandom(uint64_t seed, int64_t step) {
@@ -98,7 +125,7 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const networ
   optim::Adam adam(context, parameters, adamWOptions(t));
   optim::GradClip clip(context, t.clip);
   // The EMA's shadows start as copies of the weights the run starts from, so they are made after --init.
-  if (!options.initWeights.empty()) modules::loadWeights(options.initWeights, model);
+  if (!options.initWeights.empty()) loadInitialWeights(options.initWeights, model, config);
   optim::Ema ema(context, parameters, t.ema);
   int64_t start = 0;
   double secondsBefore = 0;

@@ -476,6 +476,13 @@ TEST(TrainingInputs, BadDataAndConfigsAreClearErrors) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("resolution 16x28x16"), std::string::npos) << e.what();
   }
+  try {
+    networks::parseNetwork("grho");
+    FAIL() << "'grho' was taken for one network";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("grho-coarse (the front and side views"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(networks::parseNetwork("gx"), Error);
   nlohmann::json config = networks::toJson(networks::defaultNetworkConfig("tiny", networks::Network::Gu));
   config["train"]["learning_rate"] = 1e-3;
   try {
@@ -536,6 +543,8 @@ TEST_F(TrainingTest, WeightsOfAnotherArchitectureNameEveryDifference) {
     FAIL() << "weights of another architecture were accepted";
   } catch (const Error& e) {
     const std::string what = e.what();
+    EXPECT_NE(what.find("holds a gu model of the tiny preset, and this run trains grho-fine at the tiny preset; "),
+              std::string::npos) << what;
     EXPECT_NE(what.find("does not match"), std::string::npos) << what;
     EXPECT_NE(what.find("presence.weight"), std::string::npos) << what;
     EXPECT_NE(what.find("with a different shape: stem.weight"), std::string::npos) << what;
