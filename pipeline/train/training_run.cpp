@@ -218,7 +218,8 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const networ
         std::fprintf(stderr, "validation at step %lld: %s\n", static_cast<long long>(done), metricLine(result.validation).c_str());
       }
     }
-    if (done % t.checkpointEvery == 0 || done == t.steps) {
+    const bool stopping = options.stop != nullptr && options.stop->load() && done % t.logEvery == 0;
+    if (done % t.checkpointEvery == 0 || done == t.steps || stopping) {
       optim::saveCheckpoint(checkpointPath, parameters, adam, &ema,
                             {{"network", networks::networkName(config.network)}, {"seconds", std::to_string(seconds())}});
       plotLosses(out / "loss.png", losses, 3);
@@ -226,6 +227,10 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const networ
     }
     result.stepsThisCall = done - start;
     result.steps = done;
+    if (stopping && done < t.steps) {
+      result.stopped = true;
+      break;
+    }
   }
   progress.finish();
   result.seconds = seconds();

@@ -5,6 +5,7 @@
 //   smokesvd train grho-fine --data data/ --preset small --out models/small/grho-fine
 //   smokesvd train nvref --data data/ --preset small --models models/small --out models/small/nvref
 //   smokesvd train grho-fine ... --resume        continue an interrupted run from its checkpoint
+// Ctrl-C stops a run at its next log step with a checkpoint written there (a second Ctrl-C at once).
 #include <iostream>
 
 #include "pipeline/dataset/scene_dataset.h"
@@ -12,6 +13,7 @@
 #include "pipeline/train/make_trainer.h"
 #include "pipeline/networks/network_config.h"
 #include "pipeline/progress.h"
+#include "pipeline/stop_on_signal.h"
 #include "pipeline/train/training_run.h"
 #include "runtime/error.h"
 #include "tools/smokesvd/command.h"
@@ -56,7 +58,15 @@ void train(const GlobalOptions& global, const TrainArguments& args) {
   options.initWeights = args.init;
   std::cerr << "training " << args.network << " (" << config.preset << "): " << trainer->model().parameterCount()
             << " parameters, " << trainer->forwardFlops() * 1e-9 << " GFLOP per forward; " << trainer->dataSummary() << "\n";
+  const StopOnSignal stop;
+  options.stop = &stop.requested();
   const train::TrainingResult result = train::runTraining(context, *trainer, config, options);
+  if (result.stopped) {
+    std::cerr << args.out << ": stopped at step " << result.steps << " of " << config.train.steps
+              << " with a checkpoint there; the same command with --resume continues it\n";
+    stop.endAsSignalled();
+    return;
+  }
   if (result.complete && result.stepsThisCall == 0)
     std::cerr << args.out << ": already complete (" << result.steps << " steps)\n";
   else

@@ -3,6 +3,7 @@
 // seed gives the same weights, and bad inputs are clear errors.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -129,6 +130,47 @@ TEST_F(TrainingTest, AKilledAndResumedRunEndsWithTheWeightsOfAnUninterruptedOne)
     }
     EXPECT_EQ(rows, 9);
   }
+}
+
+// Asked to stop (Ctrl-C: TrainingOptions::stop), a run goes on to its next log step, checkpoints there
+// (between the regular checkpoints) and returns; resumed, it ends as an uninterrupted run does.
+TEST_F(TrainingTest, ARunAskedToStopCheckpointsAtItsNextLogStepAndResumesBitForBit) {
+  const fs::path& models = tinyModels();
+  networks::NetworkConfig config = tinyConfig(networks::Network::GrhoCoarse, 8);
+  config.train.logEvery = 3;
+  config.train.checkpointEvery = 6;
+  const fs::path whole = scratch("stop_whole"), pieces = scratch("stop_pieces");
+  trainTiny(config, whole, -1, false, models);
+
+  const dataset::SceneDataset data = tinySplit();
+  const auto trainer = train::makeTrainer(testContext(), config, data, models);
+  const std::atomic<bool> stop{true};  // asked before the first step: the run still reaches its first log step
+  train::TrainingOptions o;
+  o.out = pieces;
+  o.quiet = true;
+  o.seed = 7;
+  o.stop = &stop;
+  const train::TrainingResult stopped = train::runTraining(testContext(), *trainer, config, o);
+  EXPECT_TRUE(stopped.stopped);
+  EXPECT_FALSE(stopped.complete);
+  EXPECT_EQ(stopped.steps, 3);
+  EXPECT_TRUE(fs::exists(pieces / "checkpoint.safetensors"));
+  EXPECT_FALSE(fs::exists(pieces / "model.safetensors"));
+
+  const train::TrainingResult resumed = trainTiny(config, pieces, -1, true, models);
+  EXPECT_TRUE(resumed.complete);
+  EXPECT_FALSE(resumed.stopped);
+  EXPECT_EQ(resumed.stepsThisCall, 5);  // from the stop's checkpoint at step 3, not the regular one's at 6
+  expectSameWeights(whole, pieces);
+  std::ifstream a(whole / "loss.csv"), b(pieces / "loss.csv");
+  std::string la, lb;
+  int rows = 0;
+  while (std::getline(a, la) && std::getline(b, lb)) {
+    EXPECT_EQ(la.substr(0, la.find(',')), lb.substr(0, lb.find(',')));
+    EXPECT_EQ(la.substr(la.find(',', la.find(',') + 1)), lb.substr(lb.find(',', lb.find(',') + 1))) << "row " << rows;
+    ++rows;
+  }
+  EXPECT_EQ(rows, 4);  // the header and steps 3, 6, 8
 }
 
 TEST_F(TrainingTest, TheSameSeedGivesTheSameWeights) {
