@@ -81,6 +81,20 @@ void expectSameWeights(const fs::path& a, const fs::path& b) {
   }
 }
 
+// Compares the loss.csv of two runs row by row: the seconds column differs between runs, the step and every
+// loss must not. Returns the rows compared.
+int expectSameLosses(const fs::path& a, const fs::path& b) {
+  std::ifstream fa(a / "loss.csv"), fb(b / "loss.csv");
+  std::string la, lb;
+  int rows = 0;
+  while (std::getline(fa, la) && std::getline(fb, lb)) {
+    EXPECT_EQ(la.substr(0, la.find(',')), lb.substr(0, lb.find(',')));
+    EXPECT_EQ(la.substr(la.find(',', la.find(',') + 1)), lb.substr(lb.find(',', lb.find(',') + 1))) << "row " << rows;
+    ++rows;
+  }
+  return rows;
+}
+
 class TrainingTest : public GpuTest {};
 
 // Training `config` (into a scratch run `run`, with the tiny models) is refused with an Error holding `fragment`.
@@ -119,16 +133,7 @@ TEST_F(TrainingTest, AKilledAndResumedRunEndsWithTheWeightsOfAnUninterruptedOne)
     EXPECT_TRUE(second.complete);
     EXPECT_EQ(second.stepsThisCall, 5);  // resumed from the checkpoint at step 3
     expectSameWeights(whole, pieces);
-    std::ifstream a(whole / "loss.csv"), b(pieces / "loss.csv");
-    std::string la, lb;
-    int rows = 0;
-    while (std::getline(a, la) && std::getline(b, lb)) {
-      // The seconds column differs between runs; the step and every loss must not.
-      EXPECT_EQ(la.substr(0, la.find(',')), lb.substr(0, lb.find(',')));
-      EXPECT_EQ(la.substr(la.find(',', la.find(',') + 1)), lb.substr(lb.find(',', lb.find(',') + 1))) << "row " << rows;
-      ++rows;
-    }
-    EXPECT_EQ(rows, 9);
+    EXPECT_EQ(expectSameLosses(whole, pieces), 9);
   }
 }
 
@@ -162,15 +167,7 @@ TEST_F(TrainingTest, ARunAskedToStopCheckpointsAtItsNextLogStepAndResumesBitForB
   EXPECT_FALSE(resumed.stopped);
   EXPECT_EQ(resumed.stepsThisCall, 5);  // from the stop's checkpoint at step 3, not the regular one's at 6
   expectSameWeights(whole, pieces);
-  std::ifstream a(whole / "loss.csv"), b(pieces / "loss.csv");
-  std::string la, lb;
-  int rows = 0;
-  while (std::getline(a, la) && std::getline(b, lb)) {
-    EXPECT_EQ(la.substr(0, la.find(',')), lb.substr(0, lb.find(',')));
-    EXPECT_EQ(la.substr(la.find(',', la.find(',') + 1)), lb.substr(lb.find(',', lb.find(',') + 1))) << "row " << rows;
-    ++rows;
-  }
-  EXPECT_EQ(rows, 4);  // the header and steps 3, 6, 8
+  EXPECT_EQ(expectSameLosses(whole, pieces), 4);  // the header and steps 3, 6, 8
 }
 
 TEST_F(TrainingTest, TheSameSeedGivesTheSameWeights) {
