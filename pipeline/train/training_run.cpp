@@ -2,20 +2,19 @@
 
 #include <cmath>
 #include <cstdio>
-#include <map>
 #include <memory>
 #include <sstream>
 
 #include "nets/io/file_io.h"
 #include "nets/io/json_file.h"
 #include "nets/io/safetensors.h"
-#include "nets/modules/weights.h"
 #include "nets/optim/adam.h"
 #include "nets/optim/checkpoint.h"
 #include "nets/optim/ema.h"
 #include "nets/optim/grad_clip.h"
 #include "pipeline/train/loss_log.h"
 #include "pipeline/train/loss_plot.h"
+#include "pipeline/train/model_weights.h"
 #include "pipeline/train/training_step.h"
 #include "pipeline/progress.h"
 #include "runtime/error.h"
@@ -53,32 +52,6 @@ void checkFinite(const LossTerms& terms, const std::vector<float>& values, int64
       throw Error("training step " + std::to_string(step + 1) + ": loss term '" +
                   (i == 0 ? std::string("total") : terms.terms[i - 1].first) +
                   "' is not finite; lower the learning rate, or run with SMOKESVD_CHECK=1 to find the first bad kernel");
-}
-
-// Whose weights a safetensors file says it holds ("network" and "preset" of its metadata, as smokesvd writes
-// them), where that is not the run's own network and preset: the likely cause of weights that do not fit.
-std::string otherModelIn(const fs::path& path, const networks::NetworkConfig& config) {
-  std::map<std::string, std::string> metadata;
-  try {
-    metadata = io::readSafetensors(path).metadata;
-  } catch (const Error&) {
-    return "";  // the failed load's own message says what is wrong with the file
-  }
-  const auto network = metadata.find("network"), preset = metadata.find("preset");
-  if (network == metadata.end() || preset == metadata.end()) return "";
-  const std::string ours = networks::networkName(config.network);
-  if (network->second == ours && preset->second == config.preset) return "";
-  return path.string() + " holds a " + network->second + " model of the " + preset->second +
-         " preset, and this run trains " + ours + " at the " + config.preset + " preset; ";
-}
-
-// --init's weights into the model; where they do not fit, the error says first whose weights the file holds.
-void loadInitialWeights(const fs::path& path, modules::Module& model, const networks::NetworkConfig& config) {
-  try {
-    modules::loadWeights(path, model);
-  } catch (const Error& error) {
-    throw Error(otherModelIn(path, config) + error.what());
-  }
 }
 
 }  // namespace
@@ -125,7 +98,7 @@ TrainingResult runTraining(Context& context, StageTrainer& trainer, const networ
   optim::Adam adam(context, parameters, adamWOptions(t));
   optim::GradClip clip(context, t.clip);
   // The EMA's shadows start as copies of the weights the run starts from, so they are made after --init.
-  if (!options.initWeights.empty()) loadInitialWeights(options.initWeights, model, config);
+  if (!options.initWeights.empty()) loadWeightsFor(options.initWeights, model, config);
   optim::Ema ema(context, parameters, t.ema);
   int64_t start = 0;
   double secondsBefore = 0;

@@ -582,7 +582,7 @@ TEST_F(TrainingTest, WeightsOfAnotherArchitectureNameEveryDifference) {
     FAIL() << "weights of another architecture were accepted";
   } catch (const Error& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("holds a gu model of the tiny preset, and this run trains grho-fine at the tiny preset; "),
+    EXPECT_NE(what.find("holds a gu model of the tiny preset, and the config is of grho-fine at the tiny preset; "),
               std::string::npos) << what;
     EXPECT_NE(what.find("does not match"), std::string::npos) << what;
     EXPECT_NE(what.find("presence.weight"), std::string::npos) << what;
