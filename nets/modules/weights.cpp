@@ -20,8 +20,12 @@ void saveWeights(const std::filesystem::path& path, const Module& module,
 
 std::map<std::string, std::string> loadWeights(const std::filesystem::path& path, Module& module, bool strict) {
   const io::SafetensorsFile file = io::readSafetensors(path);
-  io::uploadNamed(file, namedValues(module), path.string(), strict);
+  loadWeights(file, module, path.string(), strict);
   return file.metadata;
+}
+
+void loadWeights(const io::SafetensorsFile& file, Module& module, const std::string& source, bool strict) {
+  io::uploadNamed(file, namedValues(module), source, strict);
 }
 
 }  // namespace smokesvd::modules

@@ -7,6 +7,7 @@
 #include <map>
 #include <string>
 
+#include "nets/io/safetensors.h"
 #include "nets/modules/module.h"
 
 namespace smokesvd::modules {
@@ -18,5 +19,7 @@ void saveWeights(const std::filesystem::path& path, const Module& module,
 // missing name, unexpected name and differing shape. Not strict: absent parameters keep their values and
 // extra tensors are ignored; shapes must still agree. Returns the file's metadata.
 std::map<std::string, std::string> loadWeights(const std::filesystem::path& path, Module& module, bool strict = true);
+// The same from a file already read; `source` names it in errors.
+void loadWeights(const io::SafetensorsFile& file, Module& module, const std::string& source, bool strict = true);
 
 }  // namespace smokesvd::modules

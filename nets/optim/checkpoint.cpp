@@ -91,4 +91,18 @@ std::map<std::string, std::string> loadCheckpoint(const std::filesystem::path& p
   return file.metadata;
 }
 
+bool isCheckpoint(const io::SafetensorsFile& file) {
+  const auto format = file.metadata.find("format");
+  return format != file.metadata.end() && format->second == kFormat;
+}
+
+io::SafetensorsFile checkpointEmaWeights(const io::SafetensorsFile& file, const std::string& source) {
+  const std::string prefix = "ema.";
+  io::SafetensorsFile weights{{}, file.metadata};
+  for (const io::NamedArray& tensor : file.tensors)
+    if (tensor.name.starts_with(prefix)) weights.tensors.push_back({tensor.name.substr(prefix.size()), tensor.shape, tensor.values});
+  if (weights.tensors.empty()) throw Error(source + ": the checkpoint holds no EMA weights (no 'ema.' tensors)");
+  return weights;
+}
+
 }  // namespace smokesvd::optim

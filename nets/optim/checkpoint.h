@@ -14,6 +14,7 @@
 #include <map>
 #include <string>
 
+#include "nets/io/safetensors.h"
 #include "nets/optim/adam.h"
 #include "nets/optim/ema.h"
 
@@ -28,5 +29,12 @@ void saveCheckpoint(const std::filesystem::path& path, const NamedParameters& mo
 // Returns the file's metadata.
 std::map<std::string, std::string> loadCheckpoint(const std::filesystem::path& path, const NamedParameters& model,
                                                   Adam& adam, Ema* ema = nullptr);
+
+// Whether `file` is a training checkpoint (its metadata's "format").
+bool isCheckpoint(const io::SafetensorsFile& file);
+// The EMA weights of a checkpoint under the model's own names ("ema.<parameter>" as "<parameter>"), with the
+// checkpoint's metadata: the weights its run's model.safetensors would hold had it ended at that step. An
+// Error naming `source` if the checkpoint has no EMA.
+io::SafetensorsFile checkpointEmaWeights(const io::SafetensorsFile& file, const std::string& source);
 
 }  // namespace smokesvd::optim

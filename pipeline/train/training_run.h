@@ -34,7 +34,7 @@ struct TrainingOptions {
   // there and returns, so that --resume continues it bit for bit with nothing lost.
   const std::atomic<bool>* stop = nullptr;
   bool quiet = false;      // no progress on stderr
-  std::filesystem::path initWeights;  // start from these weights (a model.safetensors of the same architecture)
+  std::filesystem::path initWeights;  // start from these weights (a model.safetensors of the same architecture, or a checkpoint's EMA)
 };
 
 struct TrainingResult {

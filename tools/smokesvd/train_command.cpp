@@ -61,17 +61,15 @@ void train(const GlobalOptions& global, const TrainArguments& args) {
   const StopOnSignal stop;
   options.stop = &stop.requested();
   const train::TrainingResult result = train::runTraining(context, *trainer, config, options);
-  if (result.stopped) {
+  if (result.stopped)
     std::cerr << args.out << ": stopped at step " << result.steps << " of " << config.train.steps
               << " with a checkpoint there; the same command with --resume continues it\n";
-    stop.endAsSignalled();
-    return;
-  }
-  if (result.complete && result.stepsThisCall == 0)
+  else if (result.complete && result.stepsThisCall == 0)
     std::cerr << args.out << ": already complete (" << result.steps << " steps)\n";
   else
     std::cerr << args.out << ": " << result.steps << " steps in " << formatDuration(result.seconds)
               << (result.complete ? ", model.safetensors written" : "") << "\n";
+  stop.endAsSignalled();  // interrupted, even where the run completed before its next log step
 }
 
 void addTrainCommand(CLI::App& app, const GlobalOptions& global, Action& action) {
@@ -84,7 +82,7 @@ void addTrainCommand(CLI::App& app, const GlobalOptions& global, Action& action)
       ->each([](const std::string&) { args.presetGiven = true; });
   command->add_option("--config", args.config, "config JSON instead of the preset's (docs/models.md)");
   command->add_option("--models", args.models, "folder of trained networks this one uses (default: --out's parent)");
-  command->add_option("--init", args.init, "start from these weights (model.safetensors of the same architecture)");
+  command->add_option("--init", args.init, "start from these weights (a model.safetensors of the same architecture, or a checkpoint's EMA weights)");
   command->add_option("--steps", args.steps, "training steps (overrides the config)")->check(wholeNumber(1, 1000000000));
   command->add_option("--seed", args.seed, "seed of the sample draws")->check(wholeNumber(0, INT64_MAX));
   command->add_flag("--resume", args.resume, "continue the run in --out from its checkpoint");

@@ -5,9 +5,13 @@
 //   smokesvd validate nvref --data data/small                       the shipped models/small/nvref
 //   smokesvd validate nvref --data data/small --weights RUN/model.safetensors     a run's model, its config beside it
 //   smokesvd validate nvref --data data/small --config other.json   the shipped weights under other options
+//   smokesvd validate nvref --data data/small --weights RUN/checkpoint.safetensors   a run in progress (its EMA)
 #include <chrono>
 #include <fstream>
 #include <iostream>
+#include <optional>
+
+#include <nlohmann/json.hpp>
 
 #include "nets/io/file_io.h"
 #include "pipeline/dataset/scene_dataset.h"
@@ -35,16 +39,18 @@ void validate(const GlobalOptions& global, const ValidateArguments& a) {
   const std::string name = networks::networkName(network);
   if (!a.config.empty() && a.presetGiven)
     throw Error("validate: a --config file names its own preset; give --preset or --config, not both");
-  // The weights: --weights, else the trained model's in the models folder; the config: --config, else the
-  // config.json beside the weights (a run folder and a models folder both keep it there).
-  const fs::path presetModels = reconstruct::defaultModelsFolder(a.preset);
-  const fs::path weights = !a.weights.empty() ? fs::path(a.weights)
-                           : (a.models.empty() ? presetModels : fs::path(a.models)) / name / "model.safetensors";
-  const fs::path configPath = !a.config.empty() ? fs::path(a.config) : weights.parent_path() / "config.json";
+  // The config: --config, else the config.json beside the weights (a run folder and a models folder both keep
+  // it there); the weights: --weights, else the trained model's in the models folder of the config's preset.
+  std::optional<networks::NetworkConfig> given;
+  if (!a.config.empty()) given = networks::readNetworkConfig(a.config);
+  const fs::path weightsModels =
+      a.models.empty() ? reconstruct::defaultModelsFolder(given ? given->preset : a.preset) : fs::path(a.models);
+  const fs::path weights = a.weights.empty() ? weightsModels / name / "model.safetensors" : fs::path(a.weights);
   if (!fs::exists(weights)) throw Error(weights.string() + ": no such weights (expected a model.safetensors of " + name + ")");
-  if (!fs::exists(configPath))
+  const fs::path configPath = given ? fs::path(a.config) : weights.parent_path() / "config.json";
+  if (!given && !fs::exists(configPath))
     throw Error(configPath.string() + ": no such config (expected the config.json the weights were trained with; or give --config)");
-  const networks::NetworkConfig config = networks::readNetworkConfig(configPath);
+  const networks::NetworkConfig config = given ? *given : networks::readNetworkConfig(configPath);
   if (config.network != network)
     throw Error(configPath.string() + ": configures " + networks::networkName(config.network) + ", not " + name);
   const fs::path models = !a.models.empty() ? fs::path(a.models) : reconstruct::defaultModelsFolder(config.preset);
@@ -82,7 +88,7 @@ void addValidateCommand(CLI::App& app, const GlobalOptions& global, Action& acti
   command->add_option("--models", args.models,
                       "folder of trained networks: the one measured (unless --weights) and those its trainer runs "
                       "(default: the shipped models/<preset>)");
-  command->add_option("--weights", args.weights, "the model.safetensors to measure (default: MODELS/NETWORK/)");
+  command->add_option("--weights", args.weights, "the model.safetensors to measure, or a run's checkpoint.safetensors (its EMA weights; default: MODELS/NETWORK/model.safetensors)");
   command->add_option("--config", args.config, "config JSON (default: the config.json beside the weights)");
   command->add_option("--preset", args.preset, "tiny, small (default) or paper: which shipped models by default")
       ->each([](const std::string&) { args.presetGiven = true; });

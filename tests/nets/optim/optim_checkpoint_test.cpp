@@ -113,5 +113,35 @@ TEST_F(CheckpointTest, MismatchesAreRejectedAndNothingIsLoaded) {
   }
 }
 
+// A checkpoint's EMA weights under the model's own names, the metadata kept; a checkpoint without an EMA
+// and a plain weights file are told apart.
+TEST_F(CheckpointTest, TheEmaWeightsOfACheckpointComeUnderTheModelsNames) {
+  Trainer trainer(context(), AdamOptions{}, 1);
+  trainer.train(context(), 3);
+  saveCheckpoint(directory_ / "ema.safetensors", trainer.parameters, *trainer.adam, trainer.ema.get(), {{"network", "x"}});
+  const io::SafetensorsFile file = io::readSafetensors(directory_ / "ema.safetensors");
+  ASSERT_TRUE(isCheckpoint(file));
+  const io::SafetensorsFile weights = checkpointEmaWeights(file, "ema.safetensors");
+  EXPECT_EQ(weights.metadata.at("network"), "x");
+  const auto shadows = trainer.ema->namedShadows();
+  ASSERT_EQ(weights.tensors.size(), shadows.size());
+  for (const auto& [name, shadow] : shadows) {
+    const io::NamedArray* tensor = weights.find(name);
+    ASSERT_NE(tensor, nullptr) << name;
+    EXPECT_EQ(tensor->shape, shadow.shape());
+    EXPECT_EQ(tensor->values, shadow.download()) << name;
+  }
+
+  saveCheckpoint(directory_ / "plain.safetensors", trainer.parameters, *trainer.adam);
+  try {
+    checkpointEmaWeights(io::readSafetensors(directory_ / "plain.safetensors"), "plain.safetensors");
+    FAIL() << "a checkpoint without an EMA gave EMA weights";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("plain.safetensors: the checkpoint holds no EMA weights"), std::string::npos) << e.what();
+  }
+  io::writeSafetensors(directory_ / "weights.safetensors", io::downloadNamed({{"layer.bias", Tensor(context(), {3})}}));
+  EXPECT_FALSE(isCheckpoint(io::readSafetensors(directory_ / "weights.safetensors")));
+}
+
 }  // namespace
 }  // namespace smokesvd::testing

@@ -13,6 +13,8 @@
 
 #include "pipeline/dataset/scene_dataset.h"
 #include "pipeline/preset.h"
+#include "pipeline/train/make_trainer.h"
+#include "pipeline/train/training_run.h"
 #include "pipeline/train/validate_model.h"
 #include "runtime/error.h"
 #include "tests/harness/command.h"
@@ -63,6 +65,32 @@ TEST_F(ValidateModelTest, EachModelScoresWhatItsRunsLastValidationWrote) {
       const double written = std::stod(values[i + 1]);  // 9 significant digits
       EXPECT_NEAR(metrics[i].value, written, 1e-8 * std::abs(written) + 1e-12) << name << ": " << metrics[i].name;
     }
+  }
+}
+
+// A run's checkpoint stands for the model it would write at that step: its EMA weights, the ones the run's
+// validation at that step measured.
+TEST_F(ValidateModelTest, ACheckpointScoresWhatItsRunsValidationAtThatStepWrote) {
+  networks::NetworkConfig config = networks::readNetworkConfig(tinyModels() / "grho-coarse" / "config.json");
+  config.train.steps = 6;
+  config.train.checkpointEvery = 3;
+  config.train.validateEvery = 3;
+  const dataset::SceneDataset data = tinyData(config);
+  const auto trainer = train::makeTrainer(testContext(), config, data, tinyModels());
+  train::TrainingOptions o;
+  o.out = tinyScratch("validate_checkpoint") / "grho-coarse";
+  o.quiet = true;
+  o.seed = 3;
+  o.stopAfter = 4;  // "killed" after step 4: the checkpoint of step 3 stays
+  ASSERT_FALSE(train::runTraining(testContext(), *trainer, config, o).complete);
+  const std::vector<train::Metric> metrics =
+      train::validateModel(testContext(), config, data, tinyModels(), o.out / "checkpoint.safetensors");
+  const auto [columns, values] = lastValidation(o.out);
+  ASSERT_EQ(values.at(0), "3");
+  ASSERT_EQ(columns.size(), metrics.size() + 1);
+  for (std::size_t i = 0; i < metrics.size(); ++i) {
+    const double written = std::stod(values[i + 1]);
+    EXPECT_NEAR(metrics[i].value, written, 1e-8 * std::abs(written) + 1e-12) << metrics[i].name;
   }
 }
 
