@@ -68,9 +68,9 @@ Var group(Tape& tape, const Var& images, int index, int n) {
 
 NvRefTrainer::Batch::Batch(Context& context, const Preset& p, int n) : views(n) {
   const std::vector<Camera> targetCameras(static_cast<std::size_t>(n), networks::orbitCameraAt(p, 0));
-  const std::vector<Camera> aroundCameras(static_cast<std::size_t>(2 * n), networks::orbitCameraAt(p, 0));
+  const std::vector<Camera> allCameras(static_cast<std::size_t>(3 * n), networks::orbitCameraAt(p, 0));
   targets = render::uploadViews(context, targetCameras);
-  around = render::uploadViews(context, aroundCameras);
+  targetsAndAround = render::uploadViews(context, allCameras);
   const std::vector<Camera> frontCameras(networks::kSlots, networks::orbitCameraAt(p, 0));
   fronts = render::uploadViews(context, frontCameras);
   const Shape volume = p.grid.volume();
@@ -155,12 +155,13 @@ NvRefTrainer::NvRefTrainer(Context& context, const networks::NetworkConfig& conf
 int NvRefTrainer::upload(Batch& batch, const dataset::SceneEntry& scene, int frame, const Augmentation& a, int stage,
                          const std::vector<int>& slots, const std::vector<float>& usePrevious, Side side) {
   const Preset& p = data_.preset();
-  std::vector<Camera> targets, around;
+  std::vector<Camera> targets;
   for (const int slot : slots) targets.push_back(networks::orbitCameraAt(p, networks::slotAngle(slot)));
+  std::vector<Camera> all = targets;
   for (const double sign : {-1.0, 1.0})
-    for (const int slot : slots) around.push_back(networks::orbitCameraAt(p, networks::slotAngle(slot) + sign * beta_));
+    for (const int slot : slots) all.push_back(networks::orbitCameraAt(p, networks::slotAngle(slot) + sign * beta_));
   render::rewriteViews(batch.targets, targets);
-  render::rewriteViews(batch.around, around);
+  render::rewriteViews(batch.targetsAndAround, all);
   // With coarse earlier views the true renders are given at the input slots only; the stages add their renders.
   const std::vector<float> known = knownBefore(coarseEarlierViews_ ? 0 : stage);
   batch.known->value.upload(known);
@@ -244,24 +245,27 @@ NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const rende
   {
     NoGrad noGrad(tape);
     const Var coarse = coarseDensity(tape, batch, batch.frames[0], settings);
-    images.render = diff::render(tape, coarse, batch.targets, settings);
-    const Var around = diff::render(tape, coarse, batch.around, settings);
-    minus = group(tape, around, 0, batch.views);
-    plus = group(tape, around, 1, batch.views);
+    const Var all = diff::render(tape, coarse, batch.targetsAndAround, settings);
+    images.render = group(tape, all, 0, batch.views);
+    minus = group(tape, all, 1, batch.views);
+    plus = group(tape, all, 2, batch.views);
     images.truth = diff::render(tape, batch.frames[0].density, batch.targets, settings);
     // Where a previous frame stands in for nothing (frames 0 and 1), the coarse render takes its place.
     const Var instead = fn::sub(tape, variable(Tensor::fromHost(context_, {batch.views}, std::vector<float>(static_cast<std::size_t>(batch.views), 1.0f))),
                                 batch.usePrevious);
     auto standIn = [&](const Frame& frame) {
       const Var density = history_ == History::Truth ? frame.density : coarseDensity(tape, batch, frame, settings);
-      Var history = diff::render(tape, density, batch.targets, settings);
+      Var history;
       if (history_ == History::Self) {
         // That frame refined as the first frames are (its render standing in for its own history),
         // clamped at 0 as the reconstruction clamps it.
-        const Var aroundThen = diff::render(tape, density, batch.around, settings);
-        history = fn::relu(tape, refiner_.forward(tape, history, group(tape, aroundThen, 0, batch.views),
-                                                  group(tape, aroundThen, 1, batch.views), history, history)
+        const Var then = diff::render(tape, density, batch.targetsAndAround, settings);
+        history = group(tape, then, 0, batch.views);
+        history = fn::relu(tape, refiner_.forward(tape, history, group(tape, then, 1, batch.views),
+                                                  group(tape, then, 2, batch.views), history, history)
                                      .refined);
+      } else {
+        history = diff::render(tape, density, batch.targets, settings);
       }
       return fn::add(tape, fn::mulSample(tape, history, batch.usePrevious), fn::mulSample(tape, images.render, instead));
     };

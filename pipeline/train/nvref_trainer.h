@@ -83,7 +83,9 @@ class NvRefTrainer : public StageTrainer {
   struct Batch {
     explicit Batch(Context& context, const Preset& preset, int views);
     int views;
-    render::ViewSet targets, around;  // the N target views; the 2N views at -beta and +beta
+    // The N target views; the same followed by the 2N views at -beta and +beta: one render of a density at all
+    // three (its light's shadow made once) where the refiner needs them.
+    render::ViewSet targets, targetsAndAround;
     render::ViewSet fronts;           // 16 front cameras: the mirrored front view for every slot
     std::array<Frame, 3> frames;      // t, t-1, t-2
     Var known, usePrevious;     // [16] the slots known at the stage; [N] 0 where the render stands in for history
