@@ -19,6 +19,13 @@ Var row(Tape& tape, const Var& images, int i) {
                      {1, 1, s[2], s[3]});
 }
 
+// Rows first .. first + count - 1 of images [n, 1, h, w] as [count, 1, h, w].
+Var rows(Tape& tape, const Var& images, int first, int count) {
+  const Shape& s = images->value.shape();
+  return fn::reshape(tape, fn::sliceChannels(tape, fn::reshape(tape, images, {1, s[0], s[2], s[3]}), first, first + count),
+                     {count, 1, s[2], s[3]});
+}
+
 // Rows `slots` of a slot stack [16, 1, h, w] as [n, 1, h, w].
 Var gather(Tape& tape, const Var& images, const std::vector<int>& slots) {
   const Shape& s = images->value.shape();
@@ -69,25 +76,18 @@ DensityResult reconstructDensity(Context& context, MethodModels& models, const F
     }
     for (std::size_t g = 0; g < groups.size(); ++g) {
       const std::vector<int>& slots = groups[g];
-      std::vector<double> targets, around;
-      for (const int s : slots) targets.push_back(networks::slotAngle(s));
-      for (const double sign : {-1.0, 1.0})
-        for (const int s : slots) around.push_back(networks::slotAngle(s) + sign * models.refinerBeta);
-      const Var renders = diff::render(tape, density, viewsAt(context, preset, targets), look);
-      const Var neighbours = diff::render(tape, density, viewsAt(context, preset, around), look);
+      // The group's views, then those at -beta and +beta: one render, the light's shadow made once.
+      std::vector<double> angles;
+      for (const double sign : {0.0, -1.0, 1.0})
+        for (const int s : slots) angles.push_back(networks::slotAngle(s) + sign * models.refinerBeta);
+      const Var all = diff::render(tape, density, viewsAt(context, preset, angles), look);
       const auto n = static_cast<int>(slots.size());
-      std::vector<Var> minus, plus;
-      for (int i = 0; i < n; ++i) {
-        minus.push_back(row(tape, neighbours, i));
-        plus.push_back(row(tape, neighbours, n + i));
-      }
-      const Shape batch{n, 1, preset.imageHeight, preset.imageWidth};
+      const Var renders = rows(tape, all, 0, n);
       const Var history1 = frame >= 2 ? gather(tape, previous, slots) : renders;
       const Var history2 = frame >= 2 ? gather(tape, beforePrevious, slots) : renders;
-      const Var refined = fn::relu(tape, models.refiner->forward(tape, renders, fn::reshape(tape, fn::concatChannels(tape, minus), batch),
-                                                                  fn::reshape(tape, fn::concatChannels(tape, plus), batch),
-                                                                  history1, history2)
-                                             .refined);
+      const Var refined = fn::relu(
+          tape, models.refiner->forward(tape, renders, rows(tape, all, n, n), rows(tape, all, 2 * n, n), history1, history2)
+                    .refined);
       for (int i = 0; i < n; ++i) known.emplace_back(slots[static_cast<std::size_t>(i)], row(tape, refined, i));
       if (g + 1 < groups.size()) density = coarse();
     }
