@@ -2,7 +2,8 @@
 // point it can resume from (training: its next log step, after writing a checkpoint there) instead of
 // ending the process and losing the work since the last checkpoint; a second one ends the process at
 // once, as the signal would, with the in-flight temporaries removed (nets/io/temporary_files.h). The
-// handlers are installed while the object lives; the ones before them are put back afterwards.
+// handlers are installed while the object lives; the ones before them are put back afterwards. One at a
+// time: the request is the process's.
 #pragma once
 
 #include <atomic>
