@@ -3,7 +3,7 @@
 // ending the process and losing the work since the last checkpoint; a second one ends the process at
 // once, as the signal would, with the in-flight temporaries removed (nets/io/temporary_files.h). The
 // handlers are installed while the object lives; the ones before them are put back afterwards. One at a
-// time: the request is the process's.
+// time: the request is the process's. A signal the process ignores (SIGINT of a background job) stays ignored.
 #pragma once
 
 #include <atomic>

@@ -52,7 +52,10 @@ void removeInFlightTemporaries() noexcept {
 }
 
 void removeTemporariesOnSignals() {
-  for (int signal : {SIGINT, SIGTERM, SIGHUP}) std::signal(signal, onSignal);
+  // A signal the process was started ignoring (SIGINT and SIGHUP of a job in the background, under nohup)
+  // stays ignored.
+  for (int signal : {SIGINT, SIGTERM, SIGHUP})
+    if (std::signal(signal, onSignal) == SIG_IGN) std::signal(signal, SIG_IGN);
 }
 
 }  // namespace smokesvd::io

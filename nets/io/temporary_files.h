@@ -23,7 +23,7 @@ class InFlightTemporary {
 void removeInFlightTemporaries() noexcept;
 
 // Handlers for SIGINT, SIGTERM and SIGHUP that remove the in-flight temporaries and then end the process
-// as the signal would have.
+// as the signal would have; a signal ignored when this runs stays ignored.
 void removeTemporariesOnSignals();
 
 }  // namespace smokesvd::io

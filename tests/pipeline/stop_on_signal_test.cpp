@@ -33,5 +33,15 @@ TEST(StopOnSignal, AFirstSignalAsksToStopAndTheHandlersBeforeComeBack) {
   }
 }
 
+TEST(StopOnSignal, ASignalTheProcessIgnoresStaysIgnored) {
+  auto* const before = std::signal(SIGINT, SIG_IGN);
+  {
+    const StopOnSignal stop;
+    std::raise(SIGINT);
+    EXPECT_FALSE(stop.requested().load());
+  }
+  EXPECT_EQ(std::signal(SIGINT, before), SIG_IGN);
+}
+
 }  // namespace
 }  // namespace smokesvd::testing

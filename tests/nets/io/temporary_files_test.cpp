@@ -40,5 +40,20 @@ TEST(TemporaryFilesTest, ASignalRemovesTheTemporariesInFlightAndEndsTheProcessAs
   }
 }
 
+// A job started in the background (SIGINT and SIGHUP ignored, as a shell and nohup start it) keeps ignoring them.
+TEST(TemporaryFilesTest, ASignalTheProcessWasStartedIgnoringStaysIgnored) {
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    std::signal(SIGHUP, SIG_IGN);
+    io::removeTemporariesOnSignals();
+    std::raise(SIGHUP);
+    ::_exit(std::signal(SIGHUP, SIG_DFL) == SIG_IGN ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status;
+}
+
 }  // namespace
 }  // namespace smokesvd::testing
