@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "nets/functional/broadcast.h"
 #include "nets/op_registry.h"
 #include "nets/ops/concat.h"
 
@@ -55,6 +56,15 @@ Var sliceChannels(Tape& tape, const Var& x, int64_t begin, int64_t end) {
   return out;
 }
 
+Var sliceBatch(Tape& tape, const Var& x, int64_t begin, int64_t end) {
+  const Shape& shape = x->value.shape();
+  const int64_t items = shape.at(0);
+  Shape sliced = shape;
+  sliced[0] = std::max<int64_t>(end - begin, 0);
+  const Var asChannels = reshape(tape, x, {1, items, x->value.numel() / std::max<int64_t>(items, 1)});
+  return reshape(tape, sliceChannels(tape, asChannels, begin, end), sliced);
+}
+
 namespace {
 
 const bool registered =
@@ -81,7 +91,14 @@ const bool registered =
                 {{.name = "middle channels", .inputs = {{"x", draw::uniform({2, 5, 3, 3})}},
                   .attrs = {{"begin", "1"}, {"end", "4"}}, .gradient = {.step = 0.25}},
                  {.name = "4-aligned planes", .inputs = {{"x", draw::uniform({1, 4, 2, 2})}},
-                  .attrs = {{"begin", "2"}, {"end", "4"}}, .gradient = {.step = 0.25}}}});
+                  .attrs = {{"begin", "2"}, {"end", "4"}}, .gradient = {.step = 0.25}}}}) &&
+    registerOp({"slice_batch", "y = x[begin:end] along the first axis", {"x"}, {},
+                {{"begin", "", "first item"}, {"end", "", "one past the last item"}}, {"y"},
+                [](Tape& t, const std::vector<Var>& in, const OpAttrs& attrs) {
+                  return std::vector<Var>{sliceBatch(t, in[0], attrs.integer("begin"), attrs.integer("end"))};
+                },
+                {{.name = "views of an image stack", .inputs = {{"x", draw::uniform({6, 1, 3, 5})}},
+                  .attrs = {{"begin", "2"}, {"end", "5"}}, .gradient = {.step = 0.25}}}});
 
 }  // namespace
 }  // namespace smokesvd::fn

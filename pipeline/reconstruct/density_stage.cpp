@@ -12,25 +12,11 @@ namespace {
 
 using networks::kSlots;
 
-// Row i of images [n, 1, h, w] as [1, 1, h, w].
-Var row(Tape& tape, const Var& images, int i) {
-  const Shape& s = images->value.shape();
-  return fn::reshape(tape, fn::sliceChannels(tape, fn::reshape(tape, images, {1, s[0], s[2], s[3]}), i, i + 1),
-                     {1, 1, s[2], s[3]});
-}
-
-// Rows first .. first + count - 1 of images [n, 1, h, w] as [count, 1, h, w].
-Var rows(Tape& tape, const Var& images, int first, int count) {
-  const Shape& s = images->value.shape();
-  return fn::reshape(tape, fn::sliceChannels(tape, fn::reshape(tape, images, {1, s[0], s[2], s[3]}), first, first + count),
-                     {count, 1, s[2], s[3]});
-}
-
 // Rows `slots` of a slot stack [16, 1, h, w] as [n, 1, h, w].
 Var gather(Tape& tape, const Var& images, const std::vector<int>& slots) {
   const Shape& s = images->value.shape();
   std::vector<Var> rows;
-  for (const int slot : slots) rows.push_back(row(tape, images, slot));
+  for (const int slot : slots) rows.push_back(fn::sliceBatch(tape, images, slot, slot + 1));
   return fn::reshape(tape, fn::concatChannels(tape, rows), {static_cast<int64_t>(slots.size()), 1, s[2], s[3]});
 }
 
@@ -65,7 +51,7 @@ DensityResult reconstructDensity(Context& context, MethodModels& models, const F
   if (!options.refine) {
     const Var renders = diff::render(tape, density, models.coarse->views(), look);
     for (int slot = 0; slot < kSlots; ++slot)
-      if (slot != networks::kFrontSlot && slot != networks::kSideSlot) known.emplace_back(slot, row(tape, renders, slot));
+      if (slot != networks::kFrontSlot && slot != networks::kSideSlot) known.emplace_back(slot, fn::sliceBatch(tape, renders, slot, slot + 1));
   } else {
     const Var previous = variable(state.refined1), beforePrevious = variable(state.refined2);
     std::vector<std::vector<int>> groups{networks::nearSlots(), networks::midSlots(), networks::farSlots()};
@@ -82,13 +68,14 @@ DensityResult reconstructDensity(Context& context, MethodModels& models, const F
         for (const int s : slots) angles.push_back(networks::slotAngle(s) + sign * models.refinerBeta);
       const Var all = diff::render(tape, density, viewsAt(context, preset, angles), look);
       const auto n = static_cast<int>(slots.size());
-      const Var renders = rows(tape, all, 0, n);
+      const Var renders = fn::sliceBatch(tape, all, 0, n);
       const Var history1 = frame >= 2 ? gather(tape, previous, slots) : renders;
       const Var history2 = frame >= 2 ? gather(tape, beforePrevious, slots) : renders;
       const Var refined = fn::relu(
-          tape, models.refiner->forward(tape, renders, rows(tape, all, n, n), rows(tape, all, 2 * n, n), history1, history2)
+          tape, models.refiner->forward(tape, renders, fn::sliceBatch(tape, all, n, 2 * n), fn::sliceBatch(tape, all, 2 * n, 3 * n),
+                                        history1, history2)
                     .refined);
-      for (int i = 0; i < n; ++i) known.emplace_back(slots[static_cast<std::size_t>(i)], row(tape, refined, i));
+      for (int i = 0; i < n; ++i) known.emplace_back(slots[static_cast<std::size_t>(i)], fn::sliceBatch(tape, refined, i, i + 1));
       if (g + 1 < groups.size()) density = coarse();
     }
     density = models.fine->forward(tape, models.fine->slotImages(tape, known), presence(tape, known)).density;

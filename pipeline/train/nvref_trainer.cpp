@@ -57,13 +57,6 @@ std::vector<float> slotsOf(int stage) {
   return mask;
 }
 
-// Images i*N .. (i+1)*N - 1 of a batch [k N, 1, h, w].
-Var group(Tape& tape, const Var& images, int index, int n) {
-  const Shape& s = images->value.shape();
-  const Var asChannels = fn::reshape(tape, images, {1, s[0], s[2], s[3]});
-  return fn::reshape(tape, fn::sliceChannels(tape, asChannels, index * n, (index + 1) * n), {n, 1, s[2], s[3]});
-}
-
 }  // namespace
 
 NvRefTrainer::Batch::Batch(Context& context, const Preset& p, int n) : views(n) {
@@ -246,9 +239,9 @@ NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const rende
     NoGrad noGrad(tape);
     const Var coarse = coarseDensity(tape, batch, batch.frames[0], settings);
     const Var all = diff::render(tape, coarse, batch.targetsAndAround, settings);
-    images.render = group(tape, all, 0, batch.views);
-    minus = group(tape, all, 1, batch.views);
-    plus = group(tape, all, 2, batch.views);
+    images.render = fn::sliceBatch(tape, all, 0, batch.views);
+    minus = fn::sliceBatch(tape, all, batch.views, 2 * batch.views);
+    plus = fn::sliceBatch(tape, all, 2 * batch.views, 3 * batch.views);
     images.truth = diff::render(tape, batch.frames[0].density, batch.targets, settings);
     // Where a previous frame stands in for nothing (frames 0 and 1), the coarse render takes its place.
     const Var instead = fn::sub(tape, variable(Tensor::fromHost(context_, {batch.views}, std::vector<float>(static_cast<std::size_t>(batch.views), 1.0f))),
@@ -260,9 +253,9 @@ NvRefTrainer::Images NvRefTrainer::forward(Tape& tape, Batch& batch, const rende
         // That frame refined as the first frames are (its render standing in for its own history),
         // clamped at 0 as the reconstruction clamps it.
         const Var then = diff::render(tape, density, batch.targetsAndAround, settings);
-        history = group(tape, then, 0, batch.views);
-        history = fn::relu(tape, refiner_.forward(tape, history, group(tape, then, 1, batch.views),
-                                                  group(tape, then, 2, batch.views), history, history)
+        history = fn::sliceBatch(tape, then, 0, batch.views);
+        history = fn::relu(tape, refiner_.forward(tape, history, fn::sliceBatch(tape, then, batch.views, 2 * batch.views),
+                                                  fn::sliceBatch(tape, then, 2 * batch.views, 3 * batch.views), history, history)
                                      .refined);
       } else {
         history = diff::render(tape, density, batch.targets, settings);

@@ -24,13 +24,6 @@ namespace {
 Var constant(Tape& tape, float value) { return variable(Tensor::fromHost(tape.context(), {1}, std::vector<float>{value})); }
 Var zero(Tape& tape) { return constant(tape, 0.0f); }
 
-// Images i of a batch [k, 1, h, w] as [1, 1, h, w].
-Var image(Tape& tape, const Var& images, int index) {
-  const Shape& s = images->value.shape();
-  return fn::reshape(tape, fn::sliceChannels(tape, fn::reshape(tape, images, {1, s[0], s[2], s[3]}), index, index + 1),
-                     {1, 1, s[2], s[3]});
-}
-
 }  // namespace
 
 SvDiffTrainer::SvDiffTrainer(Context& context, const networks::NetworkConfig& config, const dataset::SceneDataset& data,
@@ -185,7 +178,7 @@ SvDiffTrainer::FrameErrors SvDiffTrainer::frameErrors(Tape& tape, const Var& cle
 
 SvDiffTrainer::FrontSide SvDiffTrainer::frontSide(Tape& tape, const Var& density, const render::RenderSettings& settings) {
   const Var both = diff::render(tape, density, frontSideViews_, settings);
-  return {image(tape, both, 0), image(tape, both, 1)};
+  return {fn::sliceBatch(tape, both, 0, 1), fn::sliceBatch(tape, both, 1, 2)};
 }
 
 LossTerms SvDiffTrainer::recordInitial(Tape& tape, bool guided, const render::RenderSettings& settings, FrameErrors* errors) {

@@ -93,6 +93,32 @@ TEST_F(ConcatTest, GradientsMatchFiniteDifferences) {
   EXPECT_TRUE(allClose(vb->grad, numericVjp([&](auto p) { return f(da, p); }, db, upstream), {1e-6, 1e-6}));
 }
 
+// sliceBatch: items [begin, end) of the first axis, on odd shapes, every element against a plain copy; its
+// gradient against finite differences.
+TEST_F(ConcatTest, SliceBatchMatchesReferenceAndFiniteDifferences) {
+  for (const Shape& shape : {Shape{5, 1, 3, 7}, Shape{4, 3, 5}, Shape{7, 2}}) {
+    SCOPED_TRACE(toString(shape));
+    std::vector<float> x, g;
+    Var vx = variable(randomTensor(context(), shape, 11, -1, 1, &x), true);
+    Stream stream(context());
+    Tape tape(stream);
+    const int64_t begin = 1, end = shape[0] - 1, item = numElements(shape) / shape[0];
+    Var y = fn::sliceBatch(tape, vx, begin, end);
+    Shape expectedShape = shape;
+    expectedShape[0] = end - begin;
+    ASSERT_EQ(y->value.shape(), expectedShape);
+    Tensor upstream = randomTensor(context(), expectedShape, 12, -1, 1, &g);
+    tape.backward({{y, upstream}});
+    stream.submit();
+    const std::vector<double> dx = toDouble(x);
+    const auto f = [&](std::span<const double> p) {
+      return std::vector<double>(p.begin() + begin * item, p.begin() + end * item);
+    };
+    EXPECT_TRUE(allClose(y->value, f(dx), {0, 0}));
+    EXPECT_TRUE(allClose(vx->grad, numericVjp(f, dx, toDouble(g)), {1e-6, 1e-6}));
+  }
+}
+
 TEST_F(ConcatTest, ShapeErrors) {
   EXPECT_THROW(ops::concatShape(std::vector<Shape>{{2, 3, 4}, {2, 3, 5}}), Error);
   EXPECT_THROW(ops::concatShape(std::vector<Shape>{{3}}), Error);
