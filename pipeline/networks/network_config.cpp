@@ -153,6 +153,13 @@ NetworkConfig readNetworkConfig(const std::filesystem::path& path) {
   return parseNetworkConfig(j, path.string());
 }
 
+NetworkConfig readNetworkConfig(const std::filesystem::path& path, Network network) {
+  NetworkConfig config = readNetworkConfig(path);
+  if (config.network != network)
+    throw Error(path.string() + ": configures " + networkName(config.network) + ", not " + networkName(network));
+  return config;
+}
+
 NetworkConfig defaultNetworkConfig(const std::string& presetName, Network network) {
   preset(presetName);
   const std::string key = presetName + "/" + networkName(network);

@@ -54,6 +54,8 @@ struct NetworkConfig {
 
 NetworkConfig parseNetworkConfig(const nlohmann::json& json, const std::string& source);
 NetworkConfig readNetworkConfig(const std::filesystem::path& path);
+// The same, and an Error ("<path>: configures gu, not nvref") unless it configures `network`.
+NetworkConfig readNetworkConfig(const std::filesystem::path& path, Network network);
 NetworkConfig defaultNetworkConfig(const std::string& preset, Network network);
 nlohmann::json toJson(const NetworkConfig& config);
 

@@ -13,10 +13,7 @@ TrainedModel findTrainedModel(const std::filesystem::path& models, Network netwo
     throw Error(folder.string() + ": no trained " + networkName(network) +
                 " (expected config.json and model.safetensors; train it with `smokesvd train " + networkName(network) +
                 " --out " + folder.string() + "`)");
-  model.config = readNetworkConfig(folder / "config.json");
-  if (model.config.network != network)
-    throw Error((folder / "config.json").string() + ": configures " + networkName(model.config.network) + ", not " +
-                networkName(network));
+  model.config = readNetworkConfig(folder / "config.json", network);
   if (model.config.preset != preset.name)
     throw Error((folder / "config.json").string() + ": trained for preset '" + model.config.preset + "', not '" +
                 preset.name + "'");

@@ -35,10 +35,8 @@ void train(const GlobalOptions& global, const TrainArguments& args) {
   if (!args.config.empty() && args.presetGiven)
     throw Error("train: a --config file names its own preset; give --preset or --config, not both");
   if (args.resume && args.overwrite) throw Error("train: --resume and --overwrite contradict each other");
-  networks::NetworkConfig config =
-      args.config.empty() ? networks::defaultNetworkConfig(args.preset, network) : networks::readNetworkConfig(args.config);
-  if (config.network != network)
-    throw Error(args.config + ": configures " + networks::networkName(config.network) + ", not " + args.network);
+  networks::NetworkConfig config = args.config.empty() ? networks::defaultNetworkConfig(args.preset, network)
+                                                      : networks::readNetworkConfig(args.config, network);
   if (args.steps > 0) config.train.steps = args.steps;
   if (config.train.warmup >= config.train.steps) config.train.warmup = config.train.steps / 10;
 

@@ -42,7 +42,7 @@ void validate(const GlobalOptions& global, const ValidateArguments& a) {
   // The config: --config, else the config.json beside the weights (a run folder and a models folder both keep
   // it there); the weights: --weights, else the trained model's in the models folder of the config's preset.
   std::optional<networks::NetworkConfig> given;
-  if (!a.config.empty()) given = networks::readNetworkConfig(a.config);
+  if (!a.config.empty()) given = networks::readNetworkConfig(a.config, network);
   const fs::path weightsModels =
       a.models.empty() ? reconstruct::defaultModelsFolder(given ? given->preset : a.preset) : fs::path(a.models);
   const fs::path weights = a.weights.empty() ? weightsModels / name / "model.safetensors" : fs::path(a.weights);
@@ -50,9 +50,7 @@ void validate(const GlobalOptions& global, const ValidateArguments& a) {
   const fs::path configPath = given ? fs::path(a.config) : weights.parent_path() / "config.json";
   if (!given && !fs::exists(configPath))
     throw Error(configPath.string() + ": no such config (expected the config.json the weights were trained with; or give --config)");
-  const networks::NetworkConfig config = given ? *given : networks::readNetworkConfig(configPath);
-  if (config.network != network)
-    throw Error(configPath.string() + ": configures " + networks::networkName(config.network) + ", not " + name);
+  const networks::NetworkConfig config = given ? *given : networks::readNetworkConfig(configPath, network);
   const fs::path models = !a.models.empty() ? fs::path(a.models) : reconstruct::defaultModelsFolder(config.preset);
 
   dataset::DatasetOptions dataOptions;

@@ -522,6 +522,14 @@ TEST(TrainingInputs, BadDataAndConfigsAreClearErrors) {
     EXPECT_NE(std::string(e.what()).find("grho-coarse (the front and side views"), std::string::npos) << e.what();
   }
   EXPECT_THROW(networks::parseNetwork("gx"), Error);
+  try {
+    networks::readNetworkConfig(tinyModels() / "gu" / "config.json", networks::Network::NvRef);
+    FAIL() << "G_u's config was read as NvRef's";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("gu/config.json: configures gu, not nvref"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(networks::readNetworkConfig(tinyModels() / "gu" / "config.json", networks::Network::Gu).network,
+            networks::Network::Gu);
   nlohmann::json config = networks::toJson(networks::defaultNetworkConfig("tiny", networks::Network::Gu));
   config["train"]["learning_rate"] = 1e-3;
   try {
