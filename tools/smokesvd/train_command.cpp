@@ -27,14 +27,11 @@ struct TrainArguments {
   std::string preset = "small";
   int64_t steps = 0;
   uint64_t seed = 0;
-  bool resume = false, overwrite = false, presetGiven = false;
+  bool resume = false, overwrite = false;
 };
 
 void train(const GlobalOptions& global, const TrainArguments& args) {
   const networks::Network network = networks::parseNetwork(args.network);
-  if (!args.config.empty() && args.presetGiven)
-    throw Error("train: a --config file names its own preset; give --preset or --config, not both");
-  if (args.resume && args.overwrite) throw Error("train: --resume and --overwrite contradict each other");
   networks::NetworkConfig config = args.config.empty() ? networks::defaultNetworkConfig(args.preset, network)
                                                       : networks::readNetworkConfig(args.config, network);
   if (args.steps > 0) config.train.steps = args.steps;
@@ -76,15 +73,15 @@ void addTrainCommand(CLI::App& app, const GlobalOptions& global, Action& action)
   command->add_option("network", args.network, "grho-coarse, grho-fine, nvref, gu, svdiff or svdiff-init")->required();
   command->add_option("--data", args.data, "folder of scenes from `smokesvd simulate --scenes N`")->required();
   command->add_option("--out", args.out, "output folder of the run")->required();
-  command->add_option("--preset", args.preset, "tiny, small or paper (default small): the built-in config")
-      ->each([](const std::string&) { args.presetGiven = true; });
-  command->add_option("--config", args.config, "config JSON instead of the preset's (docs/models.md)");
+  CLI::Option* preset = command->add_option("--preset", args.preset, "tiny, small or paper (default small): the built-in config");
+  command->add_option("--config", args.config, "config JSON instead of the preset's, which names its own (docs/models.md)")
+      ->excludes(preset);
   command->add_option("--models", args.models, "folder of trained networks this one uses (default: --out's parent)");
   command->add_option("--init", args.init, "start from these weights (a model.safetensors of the same architecture, or a checkpoint's EMA weights)");
   command->add_option("--steps", args.steps, "training steps (overrides the config)")->check(wholeNumber(1, 1000000000));
   command->add_option("--seed", args.seed, "seed of the sample draws")->check(wholeNumber(0, INT64_MAX));
-  command->add_flag("--resume", args.resume, "continue the run in --out from its checkpoint");
-  command->add_flag("--overwrite", args.overwrite, "discard the run in --out");
+  CLI::Option* resume = command->add_flag("--resume", args.resume, "continue the run in --out from its checkpoint");
+  command->add_flag("--overwrite", args.overwrite, "discard the run in --out")->excludes(resume);
   command->callback([&global, &action] { action = [&global] { train(global, args); }; });
 }
 

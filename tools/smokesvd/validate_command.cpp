@@ -31,14 +31,11 @@ namespace fs = std::filesystem;
 struct ValidateArguments {
   std::string network, data, models, weights, config, json;
   std::string preset = "small";
-  bool presetGiven = false;
 };
 
 void validate(const GlobalOptions& global, const ValidateArguments& a) {
   const networks::Network network = networks::parseNetwork(a.network);
   const std::string name = networks::networkName(network);
-  if (!a.config.empty() && a.presetGiven)
-    throw Error("validate: a --config file names its own preset; give --preset or --config, not both");
   // The config: --config, else the config.json beside the weights (a run folder and a models folder both keep
   // it there); the weights: --weights, else the trained model's in the models folder of the config's preset.
   std::optional<networks::NetworkConfig> given;
@@ -87,9 +84,10 @@ void addValidateCommand(CLI::App& app, const GlobalOptions& global, Action& acti
                       "folder of trained networks: the one measured (unless --weights) and those its trainer runs "
                       "(default: the shipped models/<preset>)");
   command->add_option("--weights", args.weights, "the model.safetensors to measure, or a run's checkpoint.safetensors (its EMA weights; default: MODELS/NETWORK/model.safetensors)");
-  command->add_option("--config", args.config, "config JSON (default: the config.json beside the weights)");
+  CLI::Option* config =
+      command->add_option("--config", args.config, "config JSON, which names its preset (default: the config.json beside the weights)");
   command->add_option("--preset", args.preset, "tiny, small (default) or paper: which shipped models by default")
-      ->each([](const std::string&) { args.presetGiven = true; });
+      ->excludes(config);
   command->add_option("--json", args.json, "also write the metrics to this JSON file");
   command->callback([&global, &action] { action = [&global] { validate(global, args); }; });
 }

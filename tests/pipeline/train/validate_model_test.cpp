@@ -138,8 +138,8 @@ TEST_F(ValidateModelTest, TheCommandPrintsTheMetricsAndWritesThemAsJson) {
   EXPECT_NE(other.err.find("configures nvref, not gu"), std::string::npos) << other.err;
   const CommandResult both = runSmokesvd("validate gu" + where + " --preset tiny --config " +
                                          (tinyModels() / "gu" / "config.json").string());
-  EXPECT_EQ(both.exitCode, 1);
-  EXPECT_NE(both.err.find("give --preset or --config, not both"), std::string::npos) << both.err;
+  EXPECT_EQ(both.exitCode, 2);
+  EXPECT_NE(both.err.find("--config excludes --preset"), std::string::npos) << both.err;
 }
 
 }  // namespace

@@ -106,6 +106,8 @@ TEST_F(BadInputTest, CommandLineErrorsAreOneLineWithExitStatus2) {
            {"export r --out o --mantaflow --camera-error 1", "--camera-error requires --nerf", kBadCommandLine},
            {"frobnicate", "unknown command 'frobnicate'", kBadCommandLine},
            {"train grho-coarse --data d --out o --steps 0", "--steps: expected a whole number", kBadCommandLine},
+           {"train gu --data d --out o --config c.json --preset tiny", "--preset excludes --config", kBadCommandLine},
+           {"train gu --data d --out o --resume --overwrite", "--resume excludes --overwrite", kBadCommandLine},
            {"reconstruct in.mp4 --out o --ddim-steps 0", "--ddim-steps: expected a whole number", kBadCommandLine},
            {"reconstruct in.mp4 --out o --polish-lr 0", "--polish-lr: expected a number above 0", kBadCommandLine},
            {"reconstruct in.mp4 --out o --polish-prior-weight -1", "--polish-prior-weight: expected a number from 0",
