@@ -15,7 +15,6 @@
 #include "pipeline/progress.h"
 #include "pipeline/stop_on_signal.h"
 #include "pipeline/train/training_run.h"
-#include "runtime/error.h"
 #include "tools/smokesvd/command.h"
 #include "tools/smokesvd/option_checks.h"
 
